@@ -1,0 +1,8 @@
+# hapsim_warnings(target): warnings on for our own targets only (never for
+# generated protobuf/IDL code, which we do not control).
+function(hapsim_warnings target)
+  target_compile_options(${target} PRIVATE
+    $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+      -Wold-style-cast -Wcast-align -Wunused -Woverloaded-virtual -Wnull-dereference
+      -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough>)
+endfunction()

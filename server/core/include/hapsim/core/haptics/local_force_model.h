@@ -1,0 +1,44 @@
+// The "intermediate representation" the physics sends to the haptic device
+// (Mark et al. 1996): a small local model the device-bridge evaluates at
+// 1 kHz between physics ticks, so the force stays smooth and stiff even if
+// the network hiccups. World frame W, SI units.
+#pragma once
+#include <cstdint>
+
+#include <Eigen/Core>
+
+namespace hapsim::core {
+
+enum class ContactState : std::uint8_t {
+  kFree = 0,       // nothing touched: force = f_ff (normally zero)
+  kContact = 1,    // pressing a surface: half-space spring-damper at anchor/normal
+  kPunctured = 2,  // needle inside tissue: lateral "tunnel" spring + axial damping
+  kCutting = 3,    // blade in tissue (cutting scenes): same law as kPunctured
+};
+
+const char* ToString(ContactState s);
+
+struct LocalForceModel {
+  ContactState state = ContactState::kFree;
+  Eigen::Vector3d anchor_W_m = Eigen::Vector3d::Zero();  // contact point / tunnel entry [m]
+  // kContact: outward surface normal (unit). kPunctured/kCutting: needle
+  // axis, unit, pointing out of the tissue (opposite to insertion).
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();
+  double stiffness_N_per_m = 0.0;     // k: normal (contact) or lateral (tunnel) stiffness
+  double damping_Ns_per_m = 0.0;      // b: along the normal / axis
+  Eigen::Vector3d feedforward_W_N = Eigen::Vector3d::Zero();  // f_ff [N], added as is
+};
+
+// Force on the tool tip [N] at position x_W_m moving with v_W_m_per_s, by the
+// law of model.state:
+//  kFree:      F = f_ff
+//  kContact:   p = (anchor - x)·n (penetration, m);
+//              F = f_ff + max(0, k p - b (v·n)) n  when p > 0, else f_ff
+//              (the max keeps the damper from pulling the tool into the surface)
+//  kPunctured/kCutting: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
+//              F = f_ff - k d - b (v·n) n
+// Pure and allocation-free: runs inside the 1 kHz servo loop.
+Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& model, const Eigen::Vector3d& x_W_m,
+                                   const Eigen::Vector3d& v_W_m_per_s);
+
+}  // namespace hapsim::core

@@ -1,0 +1,111 @@
+// Scene: one simulated tissue set-up a session runs (tissue block, acupuncture,
+// ...). The service drives it once per tick: Step(tool, dt) with the latest
+// tool pose, then reads the mesh, the force model for the device and events.
+//
+// Contract (ARCHITECTURE.md rules 1, 4, 5):
+//  - built by MakeScene() from a SceneSpec; bad parameters throw
+//    std::invalid_argument with a message naming the parameter;
+//  - after construction Step() never throws and never allocates;
+//  - numerical blow-up inside Step() is detected, counted in
+//    Status().numerical_resets, and the scene resets itself — never a crash;
+//  - same inputs, same outputs (deterministic; no clocks, no randomness
+//    without a fixed seed).
+// World frame W: tissue top surface near z = 0 with outward normal +z, tissue
+// below (z < 0). Units SI.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "hapsim/core/haptics/local_force_model.h"
+
+namespace hapsim::core {
+
+// The tool as the device reports it for one tick.
+struct ToolInput {
+  bool valid = false;  // false until the first pose arrives: the tool is absent
+  Eigen::Vector3d tip_W_m = Eigen::Vector3d(0, 0, 0.05);  // needle/blade tip [m]
+  // Tool orientation. Insertion direction (tip forward) = orientation * (0,0,-1),
+  // so the identity points the needle straight down into the tissue.
+  Eigen::Quaterniond orientation_W = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d velocity_W_m_per_s = Eigen::Vector3d::Zero();
+  std::uint32_t buttons = 0;
+};
+
+// A named run of triangles in Triangles() (e.g. "skin", "fat", "needle"), so
+// viewers can colour layers. Parts tile the triangle list in order.
+struct SurfacePart {
+  std::string name;
+  std::uint32_t first_triangle = 0;
+  std::uint32_t triangle_count = 0;
+};
+
+enum class SceneEventKind : std::uint8_t { kContactBegin = 0, kContactEnd = 1, kPuncture = 2, kCut = 3, kReset = 4 };
+const char* ToString(SceneEventKind k);
+
+struct SceneEvent {
+  double t_s = 0.0;  // sim time of the event
+  SceneEventKind kind = SceneEventKind::kContactBegin;
+  int layer = -1;    // index into Status().layer_names, -1 if none
+  Eigen::Vector3d where_W_m = Eigen::Vector3d::Zero();
+};
+
+struct SceneStatus {
+  std::vector<std::string> layer_names;  // fixed at build
+  int current_layer = -1;                // layer the tip is in or touching, -1 none
+  double tip_depth_m = 0.0;              // depth of the tip below the top surface (>= 0)
+  std::uint64_t numerical_resets = 0;    // blow-ups detected and recovered
+};
+
+class Scene {
+ public:
+  virtual ~Scene() = default;
+  virtual std::string_view Name() const = 0;
+
+  // Advances the simulation by dt_s with the tool held as given.
+  virtual void Step(const ToolInput& tool, double dt_s) = 0;
+  // Back to the initial state (topology version bumps if topology changed).
+  virtual void Reset() = 0;
+
+  virtual double SimTime_s() const = 0;
+  // Displayed mesh: vertex positions (3 x n) [m] and triangles (3 indices each).
+  virtual const Eigen::Matrix3Xd& Vertices_m() const = 0;
+  virtual const std::vector<std::uint32_t>& Triangles() const = 0;
+  virtual const std::vector<SurfacePart>& Parts() const = 0;
+  // Bumped whenever Triangles() or the vertex count changes (cuts, punctures
+  // that remesh, resets); viewers resync on a mismatch.
+  virtual std::uint64_t TopologyVersion() const = 0;
+
+  // What the device should render until the next tick, and the force the
+  // tissue exerts on the tool at this tick [N] (for plots and the bridge's
+  // round-trip check).
+  virtual LocalForceModel ForceModel() const = 0;
+  virtual Eigen::Vector3d ToolForce_W_N() const = 0;
+
+  // Events since construction/reset, oldest first; bounded (the oldest are
+  // dropped past the capacity reserved at build), so Step() never allocates.
+  virtual std::span<const SceneEvent> Events() const = 0;
+  virtual const SceneStatus& Status() const = 0;
+};
+
+// Which scene to build and its parameters (SI, names with units, e.g.
+// "grid_nodes", "stiffness_N_per_m"); unknown keys are an error.
+struct SceneSpec {
+  std::string name = "tissue_block";
+  std::map<std::string, double> params;
+};
+
+// Names MakeScene() accepts, with a one-line description each.
+std::vector<std::pair<std::string, std::string>> SceneCatalog();
+
+// Throws std::invalid_argument for an unknown scene or a bad parameter.
+std::unique_ptr<Scene> MakeScene(const SceneSpec& spec);
+
+}  // namespace hapsim::core

@@ -1,0 +1,40 @@
+#include "hapsim/core/haptics/local_force_model.h"
+
+#include <algorithm>
+
+namespace hapsim::core {
+
+const char* ToString(ContactState s) {
+  switch (s) {
+    case ContactState::kFree: return "free";
+    case ContactState::kContact: return "contact";
+    case ContactState::kPunctured: return "punctured";
+    case ContactState::kCutting: return "cutting";
+  }
+  return "unknown";
+}
+
+Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector3d& x,
+                                   const Eigen::Vector3d& v) {
+  const Eigen::Vector3d& n = m.normal_W;
+  switch (m.state) {
+    case ContactState::kFree:
+      return m.feedforward_W_N;
+    case ContactState::kContact: {
+      const double penetration_m = (m.anchor_W_m - x).dot(n);
+      if (penetration_m <= 0.0) return m.feedforward_W_N;
+      const double push_N =
+          std::max(0.0, m.stiffness_N_per_m * penetration_m - m.damping_Ns_per_m * v.dot(n));
+      return m.feedforward_W_N + push_N * n;
+    }
+    case ContactState::kPunctured:
+    case ContactState::kCutting: {
+      const Eigen::Vector3d r = x - m.anchor_W_m;
+      const Eigen::Vector3d lateral = r - r.dot(n) * n;
+      return m.feedforward_W_N - m.stiffness_N_per_m * lateral - m.damping_Ns_per_m * v.dot(n) * n;
+    }
+  }
+  return m.feedforward_W_N;
+}
+
+}  // namespace hapsim::core

@@ -1,0 +1,51 @@
+#include "hapsim/core/haptics/local_force_model.h"
+
+#include <gtest/gtest.h>
+
+namespace hapsim::core {
+namespace {
+
+TEST(LocalForceModel, FreeGivesFeedforwardOnly) {
+  LocalForceModel m;
+  m.feedforward_W_N = {0.1, -0.2, 0.3};
+  EXPECT_TRUE(EvaluateLocalForce(m, {1, 2, 3}, {4, 5, 6}).isApprox(m.feedforward_W_N));
+}
+
+TEST(LocalForceModel, ContactIsHookeanAlongNormal) {
+  LocalForceModel m;
+  m.state = ContactState::kContact;
+  m.anchor_W_m = {0, 0, 0};
+  m.normal_W = {0, 0, 1};
+  m.stiffness_N_per_m = 200.0;
+  // 2 mm below the surface, at rest: F = k * 0.002 = 0.4 N up.
+  const Eigen::Vector3d f = EvaluateLocalForce(m, {0.01, 0, -0.002}, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(f.z(), 0.4, 1e-12);
+  EXPECT_NEAR(f.head<2>().norm(), 0.0, 1e-12);
+  // Above the surface: no force.
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, 0.001}, Eigen::Vector3d::Zero()).norm(), 0.0, 1e-15);
+}
+
+TEST(LocalForceModel, ContactDamperNeverPullsTheToolIn) {
+  LocalForceModel m;
+  m.state = ContactState::kContact;
+  m.stiffness_N_per_m = 100.0;
+  m.damping_Ns_per_m = 10.0;
+  // Withdrawing fast (v·n = +1 m/s) while 1 mm in: k p - b v = 0.1 - 10 < 0 -> 0.
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.001}, {0, 0, 1}).norm(), 0.0, 1e-15);
+}
+
+TEST(LocalForceModel, TunnelPullsTowardAxisAndDampsAxialMotion) {
+  LocalForceModel m;
+  m.state = ContactState::kPunctured;
+  m.anchor_W_m = {0, 0, 0};
+  m.normal_W = {0, 0, 1};
+  m.stiffness_N_per_m = 500.0;
+  m.damping_Ns_per_m = 2.0;
+  const Eigen::Vector3d f = EvaluateLocalForce(m, {0.001, 0, -0.01}, {0, 0, -0.01});
+  EXPECT_NEAR(f.x(), -0.5, 1e-12);   // -k * 1 mm lateral
+  EXPECT_NEAR(f.y(), 0.0, 1e-12);
+  EXPECT_NEAR(f.z(), 0.02, 1e-12);   // -b * v_axial = -2 * (-0.01)
+}
+
+}  // namespace
+}  // namespace hapsim::core
