@@ -3,6 +3,7 @@
 // contiguous span, oldest first.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -21,12 +22,12 @@ class EventLog {
   }
   void Clear() { events_.clear(); }
   std::span<const SceneEvent> View() const { return events_; }
-  std::size_t TotalPushed() const { return total_; }
+  std::uint64_t TotalPushed() const { return total_; }
 
  private:
   std::vector<SceneEvent> events_;
   std::size_t capacity_ = 0;
-  std::size_t total_ = 0;
+  std::uint64_t total_ = 0;
 };
 
 }  // namespace hapsim::core

@@ -89,9 +89,13 @@ class Scene {
   virtual LocalForceModel ForceModel() const = 0;
   virtual Eigen::Vector3d ToolForce_W_N() const = 0;
 
-  // Events since construction/reset, oldest first; bounded (the oldest are
-  // dropped past the capacity reserved at build), so Step() never allocates.
+  // The most recent events, oldest first; bounded (the oldest are dropped
+  // past the capacity reserved at build), so Step() never allocates. Reset()
+  // does not clear them: it logs a kReset event instead.
   virtual std::span<const SceneEvent> Events() const = 0;
+  // How many events were ever logged (monotonic; EventLog::TotalPushed()), so
+  // a consumer can tell which of Events() it has not seen yet.
+  virtual std::uint64_t EventsTotal() const = 0;
   virtual const SceneStatus& Status() const = 0;
 };
 
