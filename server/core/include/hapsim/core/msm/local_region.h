@@ -1,0 +1,46 @@
+// Local update region (gingival paper, section 1): far from the contact the
+// tissue barely moves, so only nodes within a graph distance of the contact
+// are integrated and the rest are frozen. The region is rebuilt between
+// steps (e.g. when the contact node changes) without allocating.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "hapsim/core/msm/msm_model.h"
+
+namespace hapsim::core {
+
+struct LocalRegion {
+  // Node adjacency through springs (CSR), built from the model once.
+  std::vector<std::int32_t> adjacency_start;  // (n + 1)
+  std::vector<std::int32_t> adjacency;        // neighbour nodes (2 s)
+  std::vector<std::int32_t> node_springs;     // spring index per adjacency entry (2 s)
+  // Node -> anchors (CSR).
+  std::vector<std::int32_t> anchor_start;     // (n + 1)
+  std::vector<std::int32_t> node_anchors;     // (a)
+
+  // Output of SelectLocalRegion, sorted ascending (deterministic order):
+  std::vector<std::int32_t> active_nodes;     // integrated (free nodes only)
+  std::vector<std::int32_t> springs;          // springs with >= 1 active end
+  std::vector<std::int32_t> anchors;          // anchors of active nodes
+  std::vector<std::int32_t> touched_nodes;    // active nodes + their spring neighbours
+
+  // BFS scratch.
+  std::vector<std::int32_t> hops;             // (n), -1 = not reached
+  std::vector<std::int32_t> queue;            // (n)
+  std::vector<std::uint8_t> spring_mark;      // (capacity)
+};
+
+// Builds adjacency and reserves every buffer (allocates). Rebuild after
+// topology edits (cutting).
+LocalRegion MakeLocalRegion(const MsmModel& model);
+
+// Selects the free nodes within `max_hops` spring hops of `seed_node`. Never
+// allocates. Throws std::out_of_range for a bad seed (caller input).
+void SelectLocalRegion(const MsmModel& model, std::int32_t seed_node, std::int32_t max_hops,
+                       LocalRegion& region);
+
+// Every free node active (equivalent to a full update; for comparisons).
+void SelectAllNodes(const MsmModel& model, LocalRegion& region);
+
+}  // namespace hapsim::core

@@ -1,0 +1,81 @@
+// Mass-spring model (MSM): nodes with mass, linear springs between node
+// pairs, zero-length anchor springs to fixed world points, node damping,
+// gravity. Model = parameters + topology, built once from a plain MsmDef by
+// BuildMsmModel(), which validates and throws std::invalid_argument.
+//
+// Layout: struct-of-arrays. The spring step streams the spring arrays once
+// per force evaluation and gathers/scatters node data by index, so every
+// spring field is its own contiguous array (no per-spring objects, no
+// branches in the hot loop). Springs are edited only by msm_topology.h
+// (cutting), between steps; capacity is reserved at build so that stays
+// cheap and never reallocates.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hapsim::core {
+
+// What the user fills in. Per-spring arrays that are left empty take the
+// default named in their comment.
+struct MsmDef {
+  Eigen::Matrix3Xd x0_m;                  // initial node positions [m] (3 x n)
+  Eigen::VectorXd mass_kg;                // node masses [kg] (n), > 0
+  std::vector<std::uint8_t> fixed;        // 1 = node never moves (n), empty = none
+  Eigen::VectorXd node_damping_Ns_per_m;  // absolute damping -D v per node (n), empty = 0
+  Eigen::Vector3d gravity_m_per_s2 = Eigen::Vector3d::Zero();
+
+  std::vector<std::array<std::int32_t, 2>> springs;  // node index pairs (s)
+  std::vector<double> spring_rest_m;                 // (s), empty = length in x0
+  std::vector<double> spring_k_N_per_m;              // (s), >= 0
+  std::vector<double> spring_c_Ns_per_m;             // along-spring damping (s), empty = 0
+  std::int32_t spring_capacity = 0;                  // room for AddSpring(); >= s (0 = s)
+
+  // Zero-length springs from a node to a fixed world point (the "anchored
+  // springs" substrate that holds a surface to its rest shape).
+  std::vector<std::int32_t> anchor_node;      // (a)
+  Eigen::Matrix3Xd anchor_point_W_m;          // (3 x a)
+  std::vector<double> anchor_k_N_per_m;       // (a), >= 0
+  std::vector<double> anchor_c_Ns_per_m;      // (a), empty = 0
+
+  // Stability guard: a step whose kinetic energy exceeds this is reported as
+  // a blow-up (runaway energy). Infinity disables the energy check.
+  double max_kinetic_energy_J = std::numeric_limits<double>::infinity();
+};
+
+struct MsmModel {
+  std::int32_t num_nodes = 0;
+  Eigen::Matrix3Xd x0_m;                  // initial positions [m] (3 x n)
+  Eigen::VectorXd mass_kg;                // (n)
+  Eigen::VectorXd inv_mass_free_per_kg;   // 1/m for free nodes, 0 for fixed (n): a = f * this
+  std::vector<std::uint8_t> fixed;        // (n)
+  Eigen::VectorXd node_damping_Ns_per_m;  // (n)
+  Eigen::Vector3d gravity_m_per_s2 = Eigen::Vector3d::Zero();
+
+  // Springs (size s = NumSprings(), capacity reserved at build).
+  std::vector<std::int32_t> spring_i, spring_j;  // endpoints (s)
+  std::vector<double> spring_rest_m;             // rest length [m] (s)
+  std::vector<double> spring_k_N_per_m;          // stiffness (s)
+  std::vector<double> spring_c_Ns_per_m;         // damping along the spring (s)
+  std::int32_t spring_capacity = 0;
+
+  std::vector<std::int32_t> anchor_node;     // (a)
+  Eigen::Matrix3Xd anchor_point_W_m;         // (3 x a)
+  std::vector<double> anchor_k_N_per_m;      // (a)
+  std::vector<double> anchor_c_Ns_per_m;     // (a)
+
+  double max_kinetic_energy_J = std::numeric_limits<double>::infinity();
+
+  std::int32_t NumSprings() const { return static_cast<std::int32_t>(spring_i.size()); }
+  std::int32_t NumAnchors() const { return static_cast<std::int32_t>(anchor_node.size()); }
+};
+
+// Validates def (sizes, indices in range, no self-springs, positive masses,
+// finite non-negative coefficients) and builds the model.
+// Throws std::invalid_argument naming the offending field.
+MsmModel BuildMsmModel(const MsmDef& def);
+
+}  // namespace hapsim::core

@@ -1,0 +1,126 @@
+#include "hapsim/core/msm/local_region.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace hapsim::core {
+
+LocalRegion MakeLocalRegion(const MsmModel& m) {
+  const auto n = static_cast<std::size_t>(m.num_nodes);
+  const auto s = static_cast<std::size_t>(m.NumSprings());
+  const auto cap = static_cast<std::size_t>(m.spring_capacity);
+  LocalRegion r;
+  r.adjacency_start.assign(n + 1, 0);
+  for (std::size_t k = 0; k < s; ++k) {
+    ++r.adjacency_start[static_cast<std::size_t>(m.spring_i[k]) + 1];
+    ++r.adjacency_start[static_cast<std::size_t>(m.spring_j[k]) + 1];
+  }
+  for (std::size_t i = 0; i < n; ++i) r.adjacency_start[i + 1] += r.adjacency_start[i];
+  r.adjacency.resize(2 * s);
+  r.node_springs.resize(2 * s);
+  std::vector<std::int32_t> fill(r.adjacency_start.begin(), r.adjacency_start.end() - 1);
+  for (std::size_t k = 0; k < s; ++k) {
+    const auto i = static_cast<std::size_t>(m.spring_i[k]), j = static_cast<std::size_t>(m.spring_j[k]);
+    r.adjacency[static_cast<std::size_t>(fill[i])] = m.spring_j[k];
+    r.node_springs[static_cast<std::size_t>(fill[i]++)] = static_cast<std::int32_t>(k);
+    r.adjacency[static_cast<std::size_t>(fill[j])] = m.spring_i[k];
+    r.node_springs[static_cast<std::size_t>(fill[j]++)] = static_cast<std::int32_t>(k);
+  }
+  const auto a = static_cast<std::size_t>(m.NumAnchors());
+  r.anchor_start.assign(n + 1, 0);
+  for (std::size_t k = 0; k < a; ++k) ++r.anchor_start[static_cast<std::size_t>(m.anchor_node[k]) + 1];
+  for (std::size_t i = 0; i < n; ++i) r.anchor_start[i + 1] += r.anchor_start[i];
+  r.node_anchors.resize(a);
+  std::vector<std::int32_t> afill(r.anchor_start.begin(), r.anchor_start.end() - 1);
+  for (std::size_t k = 0; k < a; ++k)
+    r.node_anchors[static_cast<std::size_t>(afill[static_cast<std::size_t>(m.anchor_node[k])]++)] =
+        static_cast<std::int32_t>(k);
+
+  r.active_nodes.reserve(n);
+  r.touched_nodes.reserve(n);
+  r.springs.reserve(cap);
+  r.anchors.reserve(a);
+  r.hops.assign(n, -1);
+  r.queue.reserve(n);
+  r.spring_mark.assign(cap, 0);
+  return r;
+}
+
+namespace {
+
+// From the BFS marks in r.hops (>= 0 = active), fills the output lists.
+void CollectRegion(const MsmModel& m, LocalRegion& r) {
+  r.springs.clear();
+  r.anchors.clear();
+  r.touched_nodes.clear();
+  for (std::int32_t i : r.active_nodes) {
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::int32_t e = r.adjacency_start[ui]; e < r.adjacency_start[ui + 1]; ++e) {
+      const auto s = static_cast<std::size_t>(r.node_springs[static_cast<std::size_t>(e)]);
+      if (!r.spring_mark[s]) {
+        r.spring_mark[s] = 1;
+        r.springs.push_back(static_cast<std::int32_t>(s));
+      }
+    }
+    for (std::int32_t e = r.anchor_start[ui]; e < r.anchor_start[ui + 1]; ++e)
+      r.anchors.push_back(r.node_anchors[static_cast<std::size_t>(e)]);
+  }
+  // Touched = endpoints of region springs plus active nodes; reuse hops as a mark.
+  for (std::int32_t i : r.active_nodes) r.hops[static_cast<std::size_t>(i)] = -2;
+  for (std::int32_t s : r.springs) {
+    for (std::int32_t i : {m.spring_i[static_cast<std::size_t>(s)], m.spring_j[static_cast<std::size_t>(s)]}) {
+      if (r.hops[static_cast<std::size_t>(i)] != -2) r.hops[static_cast<std::size_t>(i)] = -2;
+    }
+  }
+  for (std::int32_t i = 0; i < m.num_nodes; ++i) {
+    if (r.hops[static_cast<std::size_t>(i)] == -2) {
+      r.touched_nodes.push_back(i);
+      r.hops[static_cast<std::size_t>(i)] = -1;
+    }
+  }
+  for (std::int32_t s : r.springs) r.spring_mark[static_cast<std::size_t>(s)] = 0;
+  std::sort(r.springs.begin(), r.springs.end());
+  std::sort(r.anchors.begin(), r.anchors.end());
+}
+
+}  // namespace
+
+void SelectLocalRegion(const MsmModel& m, std::int32_t seed, std::int32_t max_hops, LocalRegion& r) {
+  if (seed < 0 || seed >= m.num_nodes)
+    throw std::out_of_range("SelectLocalRegion: seed node " + std::to_string(seed) + " not in [0, " +
+                            std::to_string(m.num_nodes) + ")");
+  // BFS over spring adjacency up to max_hops.
+  r.queue.clear();
+  r.queue.push_back(seed);
+  r.hops[static_cast<std::size_t>(seed)] = 0;
+  for (std::size_t head = 0; head < r.queue.size(); ++head) {
+    const std::int32_t i = r.queue[head];
+    const std::int32_t h = r.hops[static_cast<std::size_t>(i)];
+    if (h >= max_hops) continue;
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::int32_t e = r.adjacency_start[ui]; e < r.adjacency_start[ui + 1]; ++e) {
+      const auto j = static_cast<std::size_t>(r.adjacency[static_cast<std::size_t>(e)]);
+      if (r.hops[j] < 0) {
+        r.hops[j] = h + 1;
+        r.queue.push_back(static_cast<std::int32_t>(j));
+      }
+    }
+  }
+  r.active_nodes.clear();
+  for (std::int32_t i : r.queue) {
+    r.hops[static_cast<std::size_t>(i)] = -1;
+    if (!m.fixed[static_cast<std::size_t>(i)]) r.active_nodes.push_back(i);
+  }
+  std::sort(r.active_nodes.begin(), r.active_nodes.end());
+  CollectRegion(m, r);
+}
+
+void SelectAllNodes(const MsmModel& m, LocalRegion& r) {
+  r.active_nodes.clear();
+  for (std::int32_t i = 0; i < m.num_nodes; ++i)
+    if (!m.fixed[static_cast<std::size_t>(i)]) r.active_nodes.push_back(i);
+  CollectRegion(m, r);
+}
+
+}  // namespace hapsim::core
