@@ -1,0 +1,98 @@
+#include "backends/synthetic_device.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace hapsim::bridge {
+
+SyntheticDevice::SyntheticDevice(SyntheticScript script) : script_(std::move(script)), rng_(script_.seed) {
+  const auto& s = script_;
+  if (s.kind != "insertion" && s.kind != "constant_speed" && s.kind != "random_walk" && s.kind != "hold") {
+    throw std::invalid_argument("unknown synthetic script '" + s.kind +
+                                "' (insertion, constant_speed, random_walk, hold)");
+  }
+  if (!(s.speed_m_per_s > 0.0 && s.speed_m_per_s <= 1.0)) throw std::invalid_argument("speed must be in (0, 1] m/s");
+  if (!(s.depth_m >= 0.0 && s.depth_m <= 0.2)) throw std::invalid_argument("depth must be in [0, 0.2] m");
+  if (!(s.start_height_m >= 0.0 && s.start_height_m <= 0.2)) throw std::invalid_argument("start height must be in [0, 0.2] m");
+  if (!(s.hold_s >= 0.0)) throw std::invalid_argument("hold time must be >= 0 s");
+  if (!(s.walk_step_m >= 0.0 && s.walk_radius_m >= 0.0)) throw std::invalid_argument("random-walk sizes must be >= 0");
+  walk_W_m_ = s.entry_W_m + Eigen::Vector3d(0, 0, s.start_height_m);
+}
+
+double SyntheticDevice::ScriptHeight(const SyntheticScript& s, double t, const char** phase, double* vz) {
+  const double v = s.speed_m_per_s;
+  const double t_approach = s.start_height_m / v;  // start height -> surface
+  const double t_press = s.depth_m / v;            // surface -> depth
+  const double t_hold = s.kind == "insertion" ? s.hold_s : 0.0;
+  const double t_out = (s.start_height_m + s.depth_m) / v;  // depth -> start height
+  const double cycle = t_approach + t_press + t_hold + t_out;
+  double tc = t;
+  if (s.kind == "insertion") {
+    tc = std::fmod(t, cycle);
+  } else if (t >= cycle) {  // constant_speed runs once, then rests at the start height
+    *phase = "done";
+    *vz = 0.0;
+    return s.start_height_m;
+  }
+  if (tc < t_approach) {
+    *phase = "approach";
+    *vz = -v;
+    return s.start_height_m - v * tc;
+  }
+  tc -= t_approach;
+  if (tc < t_press) {
+    *phase = "press";
+    *vz = -v;
+    return -v * tc;
+  }
+  tc -= t_press;
+  if (tc < t_hold) {
+    *phase = "hold";
+    *vz = 0.0;
+    return -s.depth_m;
+  }
+  tc -= t_hold;
+  *phase = "withdraw";
+  *vz = v;
+  return -s.depth_m + v * tc;
+}
+
+DeviceReading SyntheticDevice::Read(double t_s) {
+  DeviceReading r;
+  const auto& s = script_;
+  if (s.kind == "hold") {
+    r.tip_W_m = s.entry_W_m + Eigen::Vector3d(0, 0, s.start_height_m);
+    r.phase = "hold";
+    return r;
+  }
+  if (s.kind == "random_walk") {
+    std::normal_distribution<double> step(0.0, s.walk_step_m);
+    const Eigen::Vector3d previous = walk_W_m_;
+    Eigen::Vector3d next = walk_W_m_ + Eigen::Vector3d(step(rng_), step(rng_), step(rng_));
+    // Stay inside a box around the entry point, from the start height down to
+    // the maximum depth, by reflecting at the walls.
+    const Eigen::Vector3d lo = s.entry_W_m + Eigen::Vector3d(-s.walk_radius_m, -s.walk_radius_m, -s.depth_m);
+    const Eigen::Vector3d hi = s.entry_W_m + Eigen::Vector3d(s.walk_radius_m, s.walk_radius_m, s.start_height_m);
+    for (int k = 0; k < 3; ++k) {
+      if (next[k] < lo[k]) next[k] = 2 * lo[k] - next[k];
+      if (next[k] > hi[k]) next[k] = 2 * hi[k] - next[k];
+      next[k] = std::clamp(next[k], lo[k], hi[k]);
+    }
+    const double dt = std::max(t_s - last_t_s_, 1e-6);
+    r.velocity_W_m_per_s = (next - previous) / dt;
+    walk_W_m_ = next;
+    last_t_s_ = t_s;
+    r.tip_W_m = next;
+    r.phase = next.z() < s.entry_W_m.z() ? "inside" : "outside";
+    return r;
+  }
+  double vz = 0.0;
+  const double height = ScriptHeight(s, t_s, &r.phase, &vz);
+  r.tip_W_m = s.entry_W_m + Eigen::Vector3d(0, 0, height);
+  r.velocity_W_m_per_s = Eigen::Vector3d(0, 0, vz);
+  r.finished = s.kind == "constant_speed" && r.phase == std::string_view("done");
+  return r;
+}
+
+}  // namespace hapsim::bridge

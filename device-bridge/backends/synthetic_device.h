@@ -1,0 +1,55 @@
+// Synthetic device: scripted tool motion for demos, tests and load tests, no
+// hardware needed. The tool is held vertical (identity orientation: the
+// needle points down -z) above the tissue surface at z = 0.
+//
+// Scripts (positions of the tip, world frame):
+//  insertion       approach from start height to the surface, press to
+//                  depth_m at speed, hold for hold_s, withdraw to the start
+//                  height; repeats until the run ends.
+//  constant_speed  one constant-speed insertion to depth_m and back out at
+//                  the same speed (the acupuncture force-depth experiment).
+//  random_walk     bounded, seeded random walk of the tip around the
+//                  surface (palpation-like noise; deterministic per seed).
+//  hold            the tip stays at the start height (no contact).
+#pragma once
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "hapsim/bridge/device.h"
+
+namespace hapsim::bridge {
+
+struct SyntheticScript {
+  std::string kind = "insertion";
+  Eigen::Vector3d entry_W_m = Eigen::Vector3d::Zero();  // point on the surface above which the tip moves
+  double start_height_m = 0.01;   // height above the surface where a cycle starts
+  double depth_m = 0.005;         // deepest point below the surface
+  double speed_m_per_s = 0.01;    // approach/press/withdraw speed
+  double hold_s = 0.5;            // pause at depth (insertion)
+  double walk_step_m = 0.0005;    // random-walk step per 1 ms tick (std dev)
+  double walk_radius_m = 0.01;    // random-walk bound around the entry point
+  std::uint32_t seed = 1;
+};
+
+class SyntheticDevice final : public HapticDevice {
+ public:
+  explicit SyntheticDevice(SyntheticScript script);  // throws std::invalid_argument
+  std::string Name() const override { return "synthetic/" + script_.kind; }
+  DeviceReading Read(double t_s) override;
+  void CommandForce(const Eigen::Vector3d& force_W_N) override { last_force_W_N_ = force_W_N; }
+  const Eigen::Vector3d& last_force_W_N() const { return last_force_W_N_; }
+
+  // Height of the tip relative to the surface [m] and phase at time t of the
+  // insertion / constant-speed scripts (pure; used by Read and by tests).
+  static double ScriptHeight(const SyntheticScript& s, double t_s, const char** phase, double* vz);
+
+ private:
+  SyntheticScript script_;
+  Eigen::Vector3d last_force_W_N_ = Eigen::Vector3d::Zero();
+  std::mt19937 rng_;
+  Eigen::Vector3d walk_W_m_ = Eigen::Vector3d::Zero();
+  double last_t_s_ = 0.0;
+};
+
+}  // namespace hapsim::bridge

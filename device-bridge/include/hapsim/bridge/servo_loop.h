@@ -1,0 +1,90 @@
+// The 1 kHz servo loop: read the device, hand the pose to the DDS thread,
+// evaluate the newest local force model, pass it through ForceSafety,
+// command the device. No DDS call, lock, allocation or I/O happens inside a
+// tick: poses and models cross through latest-value mailboxes, and the trace
+// is a buffer reserved before the loop starts and written after it ends.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hapsim/bridge/device.h"
+#include "hapsim/bridge/force_safety.h"
+#include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/runtime/latest_value.h"
+#include "hapsim/runtime/stats.h"
+#include "haptics.h"
+
+namespace hapsim::bridge {
+
+// A force model as the DDS thread received it.
+struct ReceivedModel {
+  hapsim_dds_LocalForceModel msg{};
+  std::int64_t received_ns = 0;  // bridge steady clock
+};
+
+core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m);
+
+struct ServoConfig {
+  std::uint32_t device_id = 1;
+  std::string session = "demo";
+  double rate_hz = 1000.0;
+  double run_seconds = 0.0;        // 0: until stop is set
+  SafetyConfig safety;
+  std::size_t trace_capacity = 0;  // rows of trace to keep (0: none)
+  bool stop_when_script_finishes = true;
+};
+
+struct TraceRow {
+  double t_s;
+  Eigen::Vector3d tip_W_m;
+  Eigen::Quaterniond orientation_W;
+  Eigen::Vector3d force_W_N;      // commanded (after safety)
+  Eigen::Vector3d requested_W_N;  // from the local model (before safety)
+  double model_age_ms;            // -1: no model yet
+  std::uint64_t echo_pose_seq;
+  const char* phase;
+  std::uint8_t model_state;
+  WatchdogState watchdog;
+};
+
+struct ServoReport {
+  double elapsed_s = 0.0;
+  std::uint64_t ticks = 0;
+  runtime::Percentiles period_error_s;  // |actual period - nominal|
+  runtime::Percentiles model_age_s;     // age of the model used, per tick
+  runtime::Percentiles round_trip_s;    // pose sent -> model echoing it received
+  std::uint64_t models_received = 0;
+  std::uint64_t echo_regressions = 0;   // a model echoing an older pose than the previous one
+  std::uint64_t first_echo_seq = 0, last_echo_seq = 0;
+  double peak_force_N = 0.0;            // commanded
+  double peak_force_pressing_N = 0.0;   // phases press/hold
+  double peak_force_withdrawn_N = 0.0;  // tip more than 1 mm above the surface after withdrawing
+  SafetyCounters safety;
+  std::vector<TraceRow> trace;
+};
+
+class ServoLoop {
+ public:
+  ServoLoop(HapticDevice* device, ServoConfig config,
+            runtime::LatestValue<hapsim_dds_StylusPose>* pose_out,
+            runtime::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io);
+  // Runs on the calling thread until stop, run_seconds, or the script ends.
+  ServoReport Run(const std::atomic<bool>& stop);
+
+ private:
+  HapticDevice* device_;
+  ServoConfig config_;
+  runtime::LatestValue<hapsim_dds_StylusPose>* pose_out_;
+  runtime::LatestValue<ReceivedModel>* model_in_;
+  std::function<void()> wake_io_;
+};
+
+// Writes the trace as CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,
+// req_fx_N,req_fy_N,req_fz_N,model_age_ms,echo_pose_seq,model_state,watchdog,phase);
+// its first 8 columns are a pose log the replay backend can play.
+bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows);
+
+}  // namespace hapsim::bridge

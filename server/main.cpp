@@ -1,0 +1,121 @@
+// hapsim-server: the physics server. Hosts sessions (one scene each, ticked
+// at 1 kHz), takes device poses over DDS, answers with local force models,
+// and streams mesh frames to viewers over gRPC. SIGINT/SIGTERM stop it
+// cleanly; a one-line-per-session summary goes to stdout at exit.
+#include <cstdio>
+#include <sstream>
+
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hapsim/runtime/flags.h"
+#include "hapsim/runtime/logging.h"
+#include "hapsim/service/server_app.h"
+
+namespace {
+
+// "--sessions demo:tissue_block,s2:acupuncture" -> sessions created at start.
+bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std::string& list) {
+  std::stringstream items(list);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    const std::string id = item.substr(0, colon);
+    const std::string scene = colon == std::string::npos ? "tissue_block" : item.substr(colon + 1);
+    try {
+      registry.Create(id, scene, "", {});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hapsim-server: cannot create session '%s': %s\n", id.c_str(), e.what());
+      return false;
+    }
+  }
+  return true;
+}
+
+void PrintSummary(hapsim::service::ServerApp& app) {
+  const auto& d = app.dds().counters();
+  std::printf("server: poses accepted %llu, rejected %llu, unknown-session %llu; force models written %llu\n",
+              static_cast<unsigned long long>(d.poses_accepted.load()),
+              static_cast<unsigned long long>(d.poses_rejected.load()),
+              static_cast<unsigned long long>(d.poses_unknown_session.load()),
+              static_cast<unsigned long long>(d.force_models_written.load()));
+  for (const auto& s : app.registry().List()) {
+    const auto& c = s->counters();
+    std::printf("session %s (%s): ticks %llu, sim %.3f s, deadline misses %llu, peak tool force %.3f N, "
+                "numerical resets %llu\n",
+                s->id().c_str(), s->config().scene.c_str(), static_cast<unsigned long long>(c.ticks.load()),
+                c.sim_time_s.load(), static_cast<unsigned long long>(c.deadline_misses.load()),
+                c.peak_tool_force_N.load(), static_cast<unsigned long long>(c.numerical_resets.load()));
+  }
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hapsim::service::ServerOptions options;
+  std::string log_level = "info", sessions, dds_config;
+  double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0;
+  int dds_domain = 0, max_sessions = 64;
+  hapsim::runtime::Flags flags(
+      "hapsim-server",
+      "Physics server of hapsim: runs tissue-simulation sessions at a fixed tick rate, takes stylus\n"
+      "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
+      "over gRPC (SessionService, ViewerService, health checking).");
+  flags.Add("listen", &options.listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
+  flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
+  flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
+  flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");
+  flags.Add("max-sessions", &max_sessions, "refuse to create more sessions than this");
+  flags.Add("quantum-mm", &quantum_mm, "position quantisation of viewer deltas [mm]");
+  flags.Add("pose-timeout-ms", &pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
+  flags.Add("max-message-bytes", &options.max_message_bytes, "largest gRPC request accepted [bytes]");
+  flags.Add("dds-domain", &dds_domain, "DDS domain id");
+  flags.Add("dds-config", &dds_config,
+            "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else the built-in loopback config)");
+  flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
+  std::string error;
+  switch (flags.Parse(argc, argv, &error)) {
+    case hapsim::runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::runtime::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
+    case hapsim::runtime::Flags::Result::kOk: break;
+  }
+  if (!(tick_hz >= 10.0 && tick_hz <= 10000.0)) {
+    std::fprintf(stderr, "hapsim-server: --tick-hz must be within [10, 10000]\n");
+    return 2;
+  }
+  if (!(quantum_mm > 0.0 && quantum_mm <= 1.0) || max_sessions < 1 || dds_domain < 0 || dds_domain > 232 ||
+      !(pose_timeout_ms > 0.0) || options.max_message_bytes < 1024) {
+    std::fprintf(stderr, "hapsim-server: a flag is out of range (see --help)\n");
+    return 2;
+  }
+  if (!hapsim::runtime::SetUpLogging("server", log_level)) {
+    std::fprintf(stderr, "hapsim-server: unknown --log-level '%s'\n", log_level.c_str());
+    return 2;
+  }
+  options.sessions.tick_period_s = 1.0 / tick_hz;
+  options.sessions.max_sessions = static_cast<std::size_t>(max_sessions);
+  options.sessions.pose_timeout_s = pose_timeout_ms * 1e-3;
+  options.quantum_m = quantum_mm * 1e-3;
+  options.dds.domain_id = static_cast<std::uint32_t>(dds_domain);
+  options.dds.config_file = dds_config;
+
+  try {
+    hapsim::service::ServerApp app(options);
+    if (!CreateStartupSessions(app.registry(), sessions)) return 2;
+    asio::io_context io;
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const std::error_code&, int signal) {
+      spdlog::info("signal {} received: shutting down", signal);
+    });
+    io.run();  // returns once the signal handler has run
+    PrintSummary(app);
+    app.Shutdown();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-server: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

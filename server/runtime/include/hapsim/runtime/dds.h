@@ -1,0 +1,140 @@
+// Small RAII wrappers over the Cyclone DDS C API (no C++ binding is packaged
+// for Debian 12). One participant per process; topics with hapsim's QoS
+// (best effort, keep-last 1, volatile); a waitset for the I/O threads.
+//
+// Configuration, in order: --dds-config FILE if given; else the environment
+// variable CYCLONEDDS_URI if set; else the built-in loopback configuration
+// (deploy/cyclonedds-loopback.xml, embedded at build time) — so by default
+// DDS never leaves 127.0.0.1.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+
+#include <dds/dds.h>
+
+namespace hapsim::runtime {
+
+class DdsError : public std::runtime_error {
+ public:
+  DdsError(const std::string& what, dds_return_t code);
+};
+
+struct DdsOptions {
+  std::uint32_t domain_id = 0;
+  std::string config_file;  // empty: CYCLONEDDS_URI if set, else built-in loopback
+};
+
+class DdsParticipant {
+ public:
+  explicit DdsParticipant(const DdsOptions& options);
+  ~DdsParticipant();
+  DdsParticipant(const DdsParticipant&) = delete;
+  DdsParticipant& operator=(const DdsParticipant&) = delete;
+
+  dds_entity_t handle() const { return participant_; }
+  // Human-readable origin of the configuration in use (for logs).
+  const std::string& config_origin() const { return config_origin_; }
+
+ private:
+  dds_entity_t domain_ = 0;  // non-zero when this object created the domain
+  dds_entity_t participant_ = 0;
+  std::string config_origin_;
+};
+
+// Owns any DDS entity handle (topic, reader, writer, waitset, condition).
+class DdsEntity {
+ public:
+  DdsEntity() = default;
+  explicit DdsEntity(dds_entity_t handle) : handle_(handle) {}
+  ~DdsEntity() { Reset(); }
+  DdsEntity(DdsEntity&& other) noexcept : handle_(other.handle_) { other.handle_ = 0; }
+  DdsEntity& operator=(DdsEntity&& other) noexcept {
+    if (this != &other) {
+      Reset();
+      handle_ = other.handle_;
+      other.handle_ = 0;
+    }
+    return *this;
+  }
+  DdsEntity(const DdsEntity&) = delete;
+  DdsEntity& operator=(const DdsEntity&) = delete;
+  dds_entity_t handle() const { return handle_; }
+  void Reset();
+
+ private:
+  dds_entity_t handle_ = 0;
+};
+
+dds_entity_t CreateTopicOrThrow(const DdsParticipant& p, const dds_topic_descriptor_t* desc,
+                                const char* name);
+// Best effort, keep-last 1 per instance, volatile.
+dds_entity_t CreateWriterOrThrow(const DdsParticipant& p, dds_entity_t topic);
+dds_entity_t CreateReaderOrThrow(const DdsParticipant& p, dds_entity_t topic);
+
+template <class T>
+class DdsWriter {
+ public:
+  DdsWriter(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name)
+      : topic_(CreateTopicOrThrow(p, desc, topic_name)), writer_(CreateWriterOrThrow(p, topic_.handle())) {}
+  // Returns false when DDS refused the sample (logged by the caller).
+  bool Write(const T& sample) { return dds_write(writer_.handle(), &sample) == DDS_RETCODE_OK; }
+  dds_entity_t handle() const { return writer_.handle(); }
+
+ private:
+  DdsEntity topic_;
+  DdsEntity writer_;
+};
+
+template <class T>
+class DdsReader {
+ public:
+  DdsReader(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name)
+      : topic_(CreateTopicOrThrow(p, desc, topic_name)), reader_(CreateReaderOrThrow(p, topic_.handle())) {}
+  // Takes up to out.size() valid samples into out (no allocation: T is
+  // fixed-size); returns how many.
+  std::size_t Take(std::span<T> out) {
+    constexpr std::size_t kMax = 64;
+    void* buffers[kMax];
+    dds_sample_info_t infos[kMax];
+    const std::size_t n = out.size() < kMax ? out.size() : kMax;
+    for (std::size_t i = 0; i < n; ++i) buffers[i] = &out[i];
+    const dds_return_t got = dds_take(reader_.handle(), buffers, infos, n, static_cast<std::uint32_t>(n));
+    if (got <= 0) return 0;
+    // Compact away invalid samples (disposals carry no data).
+    std::size_t valid = 0;
+    for (std::size_t i = 0; i < static_cast<std::size_t>(got); ++i) {
+      if (!infos[i].valid_data) continue;
+      if (valid != i) out[valid] = out[i];
+      ++valid;
+    }
+    return valid;
+  }
+  dds_entity_t handle() const { return reader_.handle(); }
+
+ private:
+  DdsEntity topic_;
+  DdsEntity reader_;
+};
+
+// A waitset an I/O thread sleeps on: wakes when a reader has data, when
+// Wake() is called (guard condition) or on timeout.
+class DdsWaitSet {
+ public:
+  explicit DdsWaitSet(const DdsParticipant& p);
+  void AttachReader(dds_entity_t reader);
+  // Thread-safe; cheap. Used by real-time threads to say "new data to send".
+  void Wake();
+  // Returns after an event or timeout_ns. Resets the guard condition.
+  void Wait(std::int64_t timeout_ns);
+
+ private:
+  DdsEntity waitset_;
+  DdsEntity guard_;
+  DdsEntity read_conditions_[4];
+  int n_read_conditions_ = 0;
+};
+
+}  // namespace hapsim::runtime

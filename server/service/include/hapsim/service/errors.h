@@ -1,0 +1,20 @@
+// Bad input from a client becomes a ServiceError with a code the gRPC layer
+// maps to a status; the registry and sessions stay free of gRPC types.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace hapsim::service {
+
+enum class ErrorCode { kInvalidArgument, kNotFound, kAlreadyExists, kResourceExhausted, kFailedPrecondition };
+
+class ServiceError : public std::runtime_error {
+ public:
+  ServiceError(ErrorCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  ErrorCode code() const { return code_; }
+
+ private:
+  ErrorCode code_;
+};
+
+}  // namespace hapsim::service

@@ -1,0 +1,34 @@
+// The instructor's score sheets: for each session, the 7 indicator scores
+// (0..10) each expert submitted. Reports use the comprehensive weighted score
+// of the acupuncture paper §4.2 (hapsim::core assessment), computed over the
+// whole class: objective weights come from the spread across sessions.
+#pragma once
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "hapsim/v1/session.pb.h"
+
+namespace hapsim::service {
+
+class ScoreBook {
+ public:
+  static constexpr std::size_t kIndicators = 7;
+
+  // Throws ServiceError(kInvalidArgument) unless there are exactly 7 finite
+  // values in [0, 10]. The same expert scoring a session again replaces the
+  // earlier sheet.
+  void Submit(const std::string& session_id, const std::string& expert, const std::vector<double>& indicators);
+  // session_id empty: every scored session; otherwise just that one (class
+  // weights are still computed over all sessions). Throws kNotFound if the
+  // session has no scores.
+  void Report(const std::string& session_id, hapsim::v1::ScoreReport* out) const;
+
+ private:
+  mutable std::mutex mutex_;
+  // session -> expert -> 7 indicators
+  std::map<std::string, std::map<std::string, std::vector<double>>> sheets_;
+};
+
+}  // namespace hapsim::service

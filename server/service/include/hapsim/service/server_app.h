@@ -1,0 +1,52 @@
+// The physics server process, assembled: DDS adapter, session registry,
+// frame pump, gRPC services. main.cpp parses flags and handles signals.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <grpcpp/grpcpp.h>
+
+#include "hapsim/runtime/dds.h"
+#include "hapsim/service/frame_pump.h"
+#include "hapsim/service/score_book.h"
+#include "hapsim/service/server_dds.h"
+#include "hapsim/service/session_registry.h"
+#include "hapsim/service/session_service.h"
+#include "hapsim/service/viewer_service.h"
+
+namespace hapsim::service {
+
+struct ServerOptions {
+  std::string listen_address = "127.0.0.1:50051";
+  SessionDefaults sessions;
+  double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
+  int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
+  runtime::DdsOptions dds;
+  PoseLimits pose_limits;
+};
+
+class ServerApp {
+ public:
+  explicit ServerApp(const ServerOptions& options);  // throws on a port/DDS failure
+  ~ServerApp();
+
+  SessionRegistry& registry() { return *registry_; }
+  const ServerDds& dds() const { return *dds_; }
+  int bound_port() const { return bound_port_; }
+  // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
+  void Shutdown();
+
+ private:
+  std::unique_ptr<ServerDds> dds_;
+  std::unique_ptr<SessionRegistry> registry_;
+  std::unique_ptr<FramePump> pump_;
+  ScoreBook scores_;
+  std::unique_ptr<SessionServiceImpl> session_service_;
+  std::unique_ptr<ViewerServiceImpl> viewer_service_;
+  std::unique_ptr<grpc::Server> server_;
+  int bound_port_ = 0;
+  bool shut_down_ = false;
+};
+
+}  // namespace hapsim::service

@@ -1,0 +1,62 @@
+// One open Subscribe stream as the frame pump sees it. The pump offers each
+// new snapshot; the link sends it only when no write is in flight and the
+// viewer's rate allows — otherwise the snapshot is skipped and a later one
+// (newest state wins) goes out instead. So a slow viewer never slows the
+// physics and never builds a backlog.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "hapsim/service/frame_encoder.h"
+#include "hapsim/service/scene_snapshot.h"
+#include "hapsim/v1/viewer.pb.h"
+
+namespace hapsim::service {
+
+class ViewerLink {
+ public:
+  // What the link drives: the gRPC reactor of the stream.
+  struct Stream {
+    virtual ~Stream() = default;
+    virtual void StartFrameWrite(const hapsim::v1::Frame* frame) = 0;
+    virtual void FinishStream(const grpc::Status& status) = 0;
+  };
+
+  ViewerLink(std::string name, double max_rate_hz, double quantum_m);
+
+  // Frame pump: send this snapshot if the stream is free and due.
+  void Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns);
+  // Session closed or server stopping: end the stream with this status.
+  void Close(const grpc::Status& status);
+
+  // Reactor callbacks.
+  void Attach(Stream* stream);
+  void OnWriteDone(bool ok);
+  void OnCancelled();
+  void Detach();  // OnDone: the stream object is about to be destroyed
+
+  const std::string& name() const { return name_; }
+  std::uint64_t frames_sent() const;
+  std::uint64_t bytes_sent() const;
+  std::uint64_t snapshots_skipped() const;
+
+ private:
+  // recursive: gRPC may run a reaction inline from StartWrite/Finish.
+  mutable std::recursive_mutex mutex_;
+  Stream* stream_ = nullptr;
+  bool write_in_flight_ = false;
+  bool finished_ = false;
+  std::string name_;
+  std::int64_t min_interval_ns_ = 0;
+  std::int64_t last_send_ns_ = 0;
+  std::uint64_t last_snapshot_id_ = 0;
+  StreamEncoderState encoder_;
+  hapsim::v1::Frame frame_;  // the frame in flight (must outlive the write)
+  std::uint64_t frames_sent_ = 0, bytes_sent_ = 0, skipped_ = 0;
+};
+
+}  // namespace hapsim::service

@@ -1,0 +1,61 @@
+#include "hapsim/service/pose_filter.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace hapsim::service {
+
+std::string_view ToString(PoseRejection r) {
+  switch (r) {
+    case PoseRejection::kNone: return "ok";
+    case PoseRejection::kNotFinite: return "non-finite value";
+    case PoseRejection::kPositionOutOfRange: return "position out of range";
+    case PoseRejection::kSpeedOutOfRange: return "speed out of range";
+    case PoseRejection::kBadQuaternion: return "orientation is not a unit quaternion";
+    case PoseRejection::kBadSession: return "malformed session id";
+  }
+  return "unknown";
+}
+
+std::string_view SessionIdOf(const char (&field)[64]) {
+  const void* nul = std::memchr(field, '\0', sizeof field);
+  if (!nul) return {};
+  return std::string_view(field, static_cast<std::size_t>(static_cast<const char*>(nul) - field));
+}
+
+std::optional<core::ToolInput> FilterPose(const hapsim_dds_StylusPose& pose, const PoseLimits& limits,
+                                          PoseRejection* why) {
+  *why = PoseRejection::kNone;
+  if (SessionIdOf(pose.session).empty()) {
+    *why = PoseRejection::kBadSession;
+    return std::nullopt;
+  }
+  const Eigen::Vector3d p(pose.pos_m[0], pose.pos_m[1], pose.pos_m[2]);
+  const Eigen::Vector3d v(pose.vel_m_per_s[0], pose.vel_m_per_s[1], pose.vel_m_per_s[2]);
+  const Eigen::Vector4d q(pose.quat_wxyz[0], pose.quat_wxyz[1], pose.quat_wxyz[2], pose.quat_wxyz[3]);
+  if (!p.allFinite() || !v.allFinite() || !q.allFinite()) {
+    *why = PoseRejection::kNotFinite;
+    return std::nullopt;
+  }
+  if (p.cwiseAbs().maxCoeff() > limits.max_abs_position_m) {
+    *why = PoseRejection::kPositionOutOfRange;
+    return std::nullopt;
+  }
+  if (v.norm() > limits.max_speed_m_per_s) {
+    *why = PoseRejection::kSpeedOutOfRange;
+    return std::nullopt;
+  }
+  if (std::abs(q.norm() - 1.0) > limits.quaternion_norm_tolerance) {
+    *why = PoseRejection::kBadQuaternion;
+    return std::nullopt;
+  }
+  core::ToolInput tool;
+  tool.valid = true;
+  tool.tip_W_m = p;
+  tool.orientation_W = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
+  tool.velocity_W_m_per_s = v;
+  tool.buttons = pose.buttons;
+  return tool;
+}
+
+}  // namespace hapsim::service

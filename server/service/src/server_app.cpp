@@ -1,0 +1,49 @@
+#include "hapsim/service/server_app.h"
+
+#include <chrono>
+
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+
+namespace hapsim::service {
+
+ServerApp::ServerApp(const ServerOptions& o) {
+  dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
+  spdlog::info("DDS domain {} with config: {}", o.dds.domain_id, dds_->config_origin());
+  registry_ = std::make_unique<SessionRegistry>(o.sessions, [dds = dds_.get()] { dds->Wake(); });
+  pump_ = std::make_unique<FramePump>(registry_.get());
+  session_service_ = std::make_unique<SessionServiceImpl>(registry_.get(), &scores_);
+  viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), o.quantum_m);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(o.listen_address, grpc::InsecureServerCredentials(), &bound_port_);
+  builder.RegisterService(session_service_.get());
+  builder.RegisterService(viewer_service_.get());
+  builder.SetMaxReceiveMessageSize(o.max_message_bytes);
+  // Small HTTP/2 write buffer: OnWriteDone then means "nearly delivered", so a
+  // slow viewer gets coalesced frames instead of a seconds-long backlog.
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_WRITE_BUFFER_SIZE, 16 * 1024);
+  server_ = builder.BuildAndStart();
+  if (!server_ || bound_port_ == 0) {
+    throw std::runtime_error("cannot listen on " + o.listen_address +
+                             " (address in use or invalid? choose another with --listen)");
+  }
+  dds_->Start(registry_.get());
+  pump_->Start();
+  spdlog::info("hapsim-server listening on {} (port {})", o.listen_address, bound_port_);
+}
+
+ServerApp::~ServerApp() { Shutdown(); }
+
+void ServerApp::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  pump_->Stop();
+  registry_->CloseAll();  // stops ticks and ends every viewer stream
+  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
+  server_->Wait();
+  dds_->Stop();
+}
+
+}  // namespace hapsim::service

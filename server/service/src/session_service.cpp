@@ -1,0 +1,158 @@
+#include "hapsim/service/session_service.h"
+
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+namespace hapsim::service {
+
+using grpc::Status;
+using grpc::StatusCode;
+
+Status ToGrpcStatus(const ServiceError& e) {
+  switch (e.code()) {
+    case ErrorCode::kInvalidArgument: return {StatusCode::INVALID_ARGUMENT, e.what()};
+    case ErrorCode::kNotFound: return {StatusCode::NOT_FOUND, e.what()};
+    case ErrorCode::kAlreadyExists: return {StatusCode::ALREADY_EXISTS, e.what()};
+    case ErrorCode::kResourceExhausted: return {StatusCode::RESOURCE_EXHAUSTED, e.what()};
+    case ErrorCode::kFailedPrecondition: return {StatusCode::FAILED_PRECONDITION, e.what()};
+  }
+  return {StatusCode::INTERNAL, e.what()};
+}
+
+namespace {
+
+// Runs a handler body, turning bad input into a status: a client's mistake
+// never escapes as an exception.
+template <class F>
+Status Guarded(const char* rpc, F&& body) {
+  try {
+    body();
+    return Status::OK;
+  } catch (const ServiceError& e) {
+    return ToGrpcStatus(e);
+  } catch (const std::exception& e) {
+    spdlog::error("{} failed: {}", rpc, e.what());
+    return {StatusCode::INTERNAL, std::string(rpc) + " failed: " + e.what()};
+  }
+}
+
+}  // namespace
+
+void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
+  const auto& c = s.counters();
+  info->set_session_id(s.id());
+  info->set_scene(s.config().scene);
+  info->set_owner(s.config().owner);
+  info->set_paused(s.paused());
+  info->set_sim_time_s(c.sim_time_s.load());
+  info->set_ticks(c.ticks.load());
+  info->set_deadline_misses(c.deadline_misses.load());
+  info->set_viewers(c.viewers.load());
+  info->set_poses_received(c.poses_received.load());
+  info->set_poses_rejected(c.poses_rejected.load());
+  info->set_force_models_sent(c.force_models_sent.load());
+  info->set_numerical_resets(c.numerical_resets.load());
+  info->set_tick_period_s(s.config().tick_period_s);
+  info->set_peak_tool_force_n(c.peak_tool_force_N.load());
+}
+
+Status SessionServiceImpl::ListScenes(grpc::ServerContext*, const hapsim::v1::ListScenesRequest*,
+                                      hapsim::v1::ListScenesResponse* out) {
+  for (const auto& [name, description] : core::SceneCatalog()) {
+    auto* s = out->add_scenes();
+    s->set_name(name);
+    s->set_description(description);
+  }
+  return Status::OK;
+}
+
+Status SessionServiceImpl::CreateSession(grpc::ServerContext*, const hapsim::v1::CreateSessionRequest* req,
+                                         hapsim::v1::SessionInfo* out) {
+  return Guarded("CreateSession", [&] {
+    if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
+    std::map<std::string, double> params;
+    for (const auto& [key, value] : req->params()) {
+      if (!std::isfinite(value)) {
+        throw ServiceError(ErrorCode::kInvalidArgument, "scene parameter '" + key.substr(0, 80) + "' is not finite");
+      }
+      params.emplace(key, value);
+    }
+    auto s = registry_->Create(req->session_id(), req->scene(), req->owner(), std::move(params));
+    DescribeSession(*s, out);
+  });
+}
+
+Status SessionServiceImpl::ListSessions(grpc::ServerContext*, const hapsim::v1::ListSessionsRequest*,
+                                        hapsim::v1::ListSessionsResponse* out) {
+  for (const auto& s : registry_->List()) DescribeSession(*s, out->add_sessions());
+  return Status::OK;
+}
+
+Status SessionServiceImpl::GetSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                      hapsim::v1::SessionInfo* out) {
+  return Guarded("GetSession", [&] { DescribeSession(*registry_->FindOrThrow(req->session_id()), out); });
+}
+
+Status SessionServiceImpl::CloseSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                        hapsim::v1::CloseSessionResponse*) {
+  return Guarded("CloseSession", [&] { registry_->Close(req->session_id()); });
+}
+
+Status SessionServiceImpl::PauseSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                        hapsim::v1::SessionInfo* out) {
+  return Guarded("PauseSession", [&] {
+    auto s = registry_->FindOrThrow(req->session_id());
+    s->RequestPause(true);
+    DescribeSession(*s, out);
+  });
+}
+
+Status SessionServiceImpl::ResumeSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                         hapsim::v1::SessionInfo* out) {
+  return Guarded("ResumeSession", [&] {
+    auto s = registry_->FindOrThrow(req->session_id());
+    s->RequestPause(false);
+    DescribeSession(*s, out);
+  });
+}
+
+Status SessionServiceImpl::ResetSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                        hapsim::v1::SessionInfo* out) {
+  return Guarded("ResetSession", [&] {
+    auto s = registry_->FindOrThrow(req->session_id());
+    s->RequestReset();
+    DescribeSession(*s, out);
+  });
+}
+
+Status SessionServiceImpl::GetSnapshot(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+                                       hapsim::v1::MeshSnapshot* out) {
+  return Guarded("GetSnapshot", [&] {
+    auto s = registry_->FindOrThrow(req->session_id());
+    const auto snap = s->LatestSnapshot();
+    if (!snap) throw ServiceError(ErrorCode::kFailedPrecondition, "session has no snapshot yet; retry shortly");
+    out->set_session_id(s->id());
+    out->set_sim_time_s(snap->sim_time_s);
+    out->set_topology_version(snap->topology_version);
+    out->mutable_positions_m()->Add(snap->vertices_m.data(), snap->vertices_m.data() + snap->vertices_m.size());
+    if (snap->triangles) out->mutable_triangles()->Add(snap->triangles->begin(), snap->triangles->end());
+  });
+}
+
+Status SessionServiceImpl::SubmitScores(grpc::ServerContext*, const hapsim::v1::SubmitScoresRequest* req,
+                                        hapsim::v1::ScoreReport* out) {
+  return Guarded("SubmitScores", [&] {
+    registry_->FindOrThrow(req->session_id());  // scores belong to a live session
+    scores_->Submit(req->session_id(), req->expert(),
+                    std::vector<double>(req->indicators().begin(), req->indicators().end()));
+    scores_->Report(req->session_id(), out);
+  });
+}
+
+Status SessionServiceImpl::GetScores(grpc::ServerContext*, const hapsim::v1::ScoreQuery* req,
+                                     hapsim::v1::ScoreReport* out) {
+  return Guarded("GetScores", [&] { scores_->Report(req->session_id(), out); });
+}
+
+}  // namespace hapsim::service

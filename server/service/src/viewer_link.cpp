@@ -1,0 +1,75 @@
+#include "hapsim/service/viewer_link.h"
+
+#include <cmath>
+
+namespace hapsim::service {
+
+ViewerLink::ViewerLink(std::string name, double max_rate_hz, double quantum_m) : name_(std::move(name)) {
+  encoder_.quantum_m = quantum_m;
+  if (max_rate_hz > 0.0) min_interval_ns_ = static_cast<std::int64_t>(std::llround(1e9 / max_rate_hz));
+}
+
+void ViewerLink::Attach(Stream* stream) {
+  std::lock_guard lock(mutex_);
+  stream_ = stream;
+}
+
+void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns) {
+  std::lock_guard lock(mutex_);
+  if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return;
+  if (write_in_flight_ || now_ns - last_send_ns_ < min_interval_ns_) {
+    ++skipped_;
+    return;
+  }
+  EncodeFrame(*snapshot, &encoder_, &frame_);
+  last_snapshot_id_ = snapshot->id;
+  last_send_ns_ = now_ns;
+  write_in_flight_ = true;
+  ++frames_sent_;
+  bytes_sent_ += frame_.ByteSizeLong();
+  stream_->StartFrameWrite(&frame_);
+}
+
+void ViewerLink::OnWriteDone(bool ok) {
+  std::lock_guard lock(mutex_);
+  write_in_flight_ = false;
+  if (!ok && !finished_ && stream_) {
+    finished_ = true;  // the client is gone; the stream ends
+    stream_->FinishStream(grpc::Status(grpc::StatusCode::UNAVAILABLE, "write failed"));
+  }
+}
+
+void ViewerLink::OnCancelled() {
+  std::lock_guard lock(mutex_);
+  if (finished_ || !stream_) return;
+  finished_ = true;
+  stream_->FinishStream(grpc::Status::CANCELLED);
+}
+
+void ViewerLink::Close(const grpc::Status& status) {
+  std::lock_guard lock(mutex_);
+  if (finished_ || !stream_) return;
+  finished_ = true;
+  stream_->FinishStream(status);
+}
+
+void ViewerLink::Detach() {
+  std::lock_guard lock(mutex_);
+  stream_ = nullptr;
+  finished_ = true;
+}
+
+std::uint64_t ViewerLink::frames_sent() const {
+  std::lock_guard lock(mutex_);
+  return frames_sent_;
+}
+std::uint64_t ViewerLink::bytes_sent() const {
+  std::lock_guard lock(mutex_);
+  return bytes_sent_;
+}
+std::uint64_t ViewerLink::snapshots_skipped() const {
+  std::lock_guard lock(mutex_);
+  return skipped_;
+}
+
+}  // namespace hapsim::service
