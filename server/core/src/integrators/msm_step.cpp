@@ -252,6 +252,9 @@ int BackwardEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R 
   });
   // Conjugate gradients on (M + h C + h^2 Kop) dv = rhs (SPD: Kop clamped).
   double rr = DotActive(m, res, res, r);
+  if (!std::isfinite(rr)) {  // NaN/inf force: let it reach the state so the guard sees it
+    ForActive(m, r.active, [&](std::int32_t e, double) { dv[e] = rr; });
+  }
   const double tol2 = ws.cg_relative_tolerance * ws.cg_relative_tolerance * rr;
   int it = 0;
   while (it < ws.cg_max_iterations && rr > tol2 && rr > 0.0) {

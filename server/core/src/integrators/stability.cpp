@@ -17,7 +17,13 @@ ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c)
   // is <= max_i [ lambda_max(K_ii)/m_i + sum_j |K_ij|/sqrt(m_i m_j) ], and a
   // spring's 3x3 block near rest has norm <= k. Scaled by m_i per row below.
   std::vector<double> k_row(n, extra_k), c_row(n, 0.0);
-  for (std::size_t i = 0; i < n; ++i) c_row[i] = extra_c + m.node_damping_Ns_per_m[static_cast<Eigen::Index>(i)];
+  // Absolute dampers (node and anchor) damp every mode; spring dampers only
+  // relative motion, so only the absolute ones give a lower bound.
+  std::vector<double> c_absolute(n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    c_absolute[i] = m.node_damping_Ns_per_m[static_cast<Eigen::Index>(i)];
+    c_row[i] = extra_c + c_absolute[i];
+  }
   for (std::int32_t s = 0; s < m.NumSprings(); ++s) {
     const auto i = static_cast<std::size_t>(m.spring_i[static_cast<std::size_t>(s)]);
     const auto j = static_cast<std::size_t>(m.spring_j[static_cast<std::size_t>(s)]);
@@ -35,6 +41,7 @@ ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c)
     const auto i = static_cast<std::size_t>(m.anchor_node[static_cast<std::size_t>(a)]);
     k_row[i] += m.anchor_k_N_per_m[static_cast<std::size_t>(a)];
     c_row[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
+    c_absolute[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
   }
   ModeBounds b;
   b.gamma_min_per_s = std::numeric_limits<double>::infinity();
@@ -43,8 +50,7 @@ ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c)
     const double mi = m.mass_kg[static_cast<Eigen::Index>(i)];
     b.omega2_max_per_s2 = std::max(b.omega2_max_per_s2, k_row[i] / mi);
     b.gamma_max_per_s = std::max(b.gamma_max_per_s, c_row[i] / mi);
-    // Only node damping damps every mode; spring dampers miss rigid-like modes.
-    b.gamma_min_per_s = std::min(b.gamma_min_per_s, m.node_damping_Ns_per_m[static_cast<Eigen::Index>(i)] / mi);
+    b.gamma_min_per_s = std::min(b.gamma_min_per_s, c_absolute[i] / mi);
   }
   if (!std::isfinite(b.gamma_min_per_s)) b.gamma_min_per_s = 0.0;
   return b;

@@ -69,9 +69,8 @@ void CollectRegion(const MsmModel& m, LocalRegion& r) {
   // Touched = endpoints of region springs plus active nodes; reuse hops as a mark.
   for (std::int32_t i : r.active_nodes) r.hops[static_cast<std::size_t>(i)] = -2;
   for (std::int32_t s : r.springs) {
-    for (std::int32_t i : {m.spring_i[static_cast<std::size_t>(s)], m.spring_j[static_cast<std::size_t>(s)]}) {
-      if (r.hops[static_cast<std::size_t>(i)] != -2) r.hops[static_cast<std::size_t>(i)] = -2;
-    }
+    r.hops[static_cast<std::size_t>(m.spring_i[static_cast<std::size_t>(s)])] = -2;
+    r.hops[static_cast<std::size_t>(m.spring_j[static_cast<std::size_t>(s)])] = -2;
   }
   for (std::int32_t i = 0; i < m.num_nodes; ++i) {
     if (r.hops[static_cast<std::size_t>(i)] == -2) {

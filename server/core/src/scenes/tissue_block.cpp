@@ -86,10 +86,9 @@ TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& pa
   return p;
 }
 
-namespace {
-
-MsmDef MakeGridDef(const TissueBlockParams& p, double spacing_m) {
+MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
   const int n = p.grid_nodes;
+  const double spacing_m = p.size_m / (n - 1);
   MsmDef d;
   d.x0_m.resize(3, n * n);
   d.fixed.assign(static_cast<std::size_t>(n * n), 0);
@@ -132,11 +131,9 @@ MsmDef MakeGridDef(const TissueBlockParams& p, double spacing_m) {
   return d;
 }
 
-}  // namespace
-
 TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
     : params_(params), spacing_m_(params.size_m / (params.grid_nodes - 1)) {
-  model_ = BuildMsmModel(MakeGridDef(params_, spacing_m_));
+  model_ = BuildMsmModel(MakeTissueGridDef(params_));
   state_ = MakeMsmState(model_);
   initial_state_ = state_;
   workspace_ = MakeMsmWorkspace(model_);

@@ -60,6 +60,10 @@ struct TissueBlockParams {
   IntegratorChoice integrator{};            // default symplectic Euler
 };
 
+// The scene's mass-spring grid as a plain definition (also used by the
+// validation and the benchmarks to build larger patches of the same tissue).
+MsmDef MakeTissueGridDef(const TissueBlockParams& params);
+
 // Parses and range-checks params; unknown keys and bad values throw
 // std::invalid_argument naming the key.
 TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& params);
