@@ -99,8 +99,9 @@ void Session::Tick(std::uint64_t tick_index, std::int64_t now_ns) {
   counters_.numerical_resets.store(scene_->Status().numerical_resets, std::memory_order_relaxed);
   AtomicMax(counters_.peak_tool_force_N, scene_->ToolForce_W_N().norm());
 
-  // 4. Publish: force model every tick (if a device is there), snapshot at the frame rate.
-  if (have_pose_) PublishForceModel();
+  // 4. Publish: force model every tick while a device is streaming, snapshot
+  //    at the frame rate.
+  if (tool.valid) PublishForceModel();
   if ((tick_index + 1) % ticks_per_frame_ == 0) PublishSnapshot();
 }
 

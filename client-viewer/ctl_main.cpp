@@ -1,0 +1,231 @@
+// hapsim-ctl: the session-control RPCs from a shell — what an instructor's
+// panel does: list/create/close sessions, pause/resume/reset, export a mesh
+// snapshot, submit and read scores, check server health.
+#include <condition_variable>
+#include <cstdio>
+#include <mutex>
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+
+#include "hapsim/v1/session.grpc.pb.h"
+#include "hapsim/viewer/mesh_cache.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: hapsim-ctl [--server HOST:PORT] COMMAND [ARGS]\n\n"
+    "Session control for a hapsim-server (default server 127.0.0.1:50051).\n\ncommands:\n"
+    "  scenes                              list the scenes a session can run\n"
+    "  list                                list sessions with their counters\n"
+    "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
+    "                                      create a session (prints its id)\n"
+    "  info ID | close ID | pause ID | resume ID | reset ID\n"
+    "  snapshot ID --obj FILE              write the session's current mesh (full precision) as OBJ\n"
+    "  score ID --indicators a,b,c,d,e,f,g [--expert NAME]\n"
+    "                                      submit 7 indicator scores (0..10) for a session\n"
+    "  scores [ID]                         comprehensive scores of one session or the whole class\n"
+    "  health                              gRPC health check (exit 0 when SERVING)\n";
+
+int Fail(const grpc::Status& s) {
+  std::fprintf(stderr, "hapsim-ctl: %s (%d)\n", s.error_message().c_str(), static_cast<int>(s.error_code()));
+  return 1;
+}
+
+void PrintInfo(const hapsim::v1::SessionInfo& i) {
+  std::printf("%s scene=%s owner=%s paused=%d sim_time_s=%.3f ticks=%llu deadline_misses=%llu viewers=%u "
+              "poses_received=%llu poses_rejected=%llu force_models_sent=%llu numerical_resets=%llu "
+              "peak_tool_force_n=%.4f\n",
+              i.session_id().c_str(), i.scene().c_str(), i.owner().c_str(), i.paused() ? 1 : 0, i.sim_time_s(),
+              static_cast<unsigned long long>(i.ticks()), static_cast<unsigned long long>(i.deadline_misses()),
+              i.viewers(), static_cast<unsigned long long>(i.poses_received()),
+              static_cast<unsigned long long>(i.poses_rejected()),
+              static_cast<unsigned long long>(i.force_models_sent()),
+              static_cast<unsigned long long>(i.numerical_resets()), i.peak_tool_force_n());
+}
+
+void PrintScores(const hapsim::v1::ScoreReport& r) {
+  std::printf("weights (mu=%.2f): combined", r.mu());
+  for (const double w : r.combined_weights()) std::printf(" %.4f", w);
+  std::printf("\n");
+  for (const auto& s : r.sessions()) {
+    std::printf("%s experts=%u score=%.4f\n", s.session_id().c_str(), s.experts(), s.comprehensive_score());
+  }
+  std::printf("class mean score %.4f\n", r.class_mean_score());
+}
+
+bool ParseIndicators(const std::string& text, hapsim::v1::SubmitScoresRequest* req) {
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0') return false;
+    req->add_indicators(v);
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  std::string server = "127.0.0.1:50051";
+  if (args.size() >= 2 && args[0] == "--server") {
+    server = args[1];
+    args.erase(args.begin(), args.begin() + 2);
+  }
+  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
+    std::fputs(kUsage, args.empty() ? stderr : stdout);
+    return args.empty() ? 2 : 0;
+  }
+  const std::string command = args[0];
+  // Named options after the command: --key value
+  auto option = [&](const std::string& name) -> std::string {
+    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
+      if (args[i] == name) return args[i + 1];
+    }
+    return "";
+  };
+  auto positional = [&]() -> std::string { return args.size() >= 2 && args[1].rfind("--", 0) != 0 ? args[1] : ""; };
+
+  auto channel = grpc::CreateChannel(server, grpc::InsecureChannelCredentials());
+  auto stub = hapsim::v1::SessionService::NewStub(channel);
+  grpc::ClientContext ctx;
+  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+
+  if (command == "health") {
+    grpc::ByteBuffer response;
+    // grpc.health.v1.Health/Check with an empty request: the generic stub
+    // avoids needing the health proto here; SERVING is field 1 = 1.
+    grpc::GenericStub generic(channel);
+    grpc::Slice empty;
+    grpc::ByteBuffer request(&empty, 1);
+    grpc::Status status;
+    bool done = false;
+    std::mutex m;
+    std::condition_variable cv;
+    generic.UnaryCall(&ctx, "/grpc.health.v1.Health/Check", grpc::StubOptions(), &request, &response,
+                      [&](grpc::Status s) {
+                        std::lock_guard lock(m);
+                        status = s;
+                        done = true;
+                        cv.notify_one();
+                      });
+    std::unique_lock lock(m);
+    cv.wait(lock, [&] { return done; });
+    if (!status.ok()) return Fail(status);
+    std::vector<grpc::Slice> slices;
+    (void)response.Dump(&slices);
+    std::string bytes;
+    for (const auto& s : slices) bytes.append(reinterpret_cast<const char*>(s.begin()), s.size());
+    const bool serving = bytes.size() == 2 && bytes[0] == 0x08 && bytes[1] == 0x01;
+    std::printf("%s\n", serving ? "SERVING" : "NOT_SERVING");
+    return serving ? 0 : 1;
+  }
+  if (command == "scenes") {
+    hapsim::v1::ListScenesResponse r;
+    const auto s = stub->ListScenes(&ctx, {}, &r);
+    if (!s.ok()) return Fail(s);
+    for (const auto& scene : r.scenes()) std::printf("%-16s %s\n", scene.name().c_str(), scene.description().c_str());
+    return 0;
+  }
+  if (command == "list") {
+    hapsim::v1::ListSessionsResponse r;
+    const auto s = stub->ListSessions(&ctx, {}, &r);
+    if (!s.ok()) return Fail(s);
+    for (const auto& i : r.sessions()) PrintInfo(i);
+    return 0;
+  }
+  if (command == "create") {
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id(option("--id"));
+    req.set_scene(option("--scene"));
+    req.set_owner(option("--owner"));
+    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
+      if (args[i] != "--param") continue;
+      const std::string& kv = args[i + 1];
+      const auto eq = kv.find('=');
+      char* end = nullptr;
+      const double value = eq == std::string::npos ? 0.0 : std::strtod(kv.c_str() + eq + 1, &end);
+      if (eq == std::string::npos || !end || *end != '\0') {
+        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", kv.c_str());
+        return 2;
+      }
+      (*req.mutable_params())[kv.substr(0, eq)] = value;
+    }
+    hapsim::v1::SessionInfo info;
+    const auto s = stub->CreateSession(&ctx, req, &info);
+    if (!s.ok()) return Fail(s);
+    PrintInfo(info);
+    return 0;
+  }
+  const std::string id = positional();
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id(id);
+  if (command == "info" || command == "pause" || command == "resume" || command == "reset") {
+    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: %s needs a session id\n", command.c_str()); return 2; }
+    hapsim::v1::SessionInfo info;
+    grpc::Status s;
+    if (command == "info") s = stub->GetSession(&ctx, ref, &info);
+    if (command == "pause") s = stub->PauseSession(&ctx, ref, &info);
+    if (command == "resume") s = stub->ResumeSession(&ctx, ref, &info);
+    if (command == "reset") s = stub->ResetSession(&ctx, ref, &info);
+    if (!s.ok()) return Fail(s);
+    PrintInfo(info);
+    return 0;
+  }
+  if (command == "close") {
+    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: close needs a session id\n"); return 2; }
+    hapsim::v1::CloseSessionResponse r;
+    const auto s = stub->CloseSession(&ctx, ref, &r);
+    if (!s.ok()) return Fail(s);
+    std::printf("closed %s\n", id.c_str());
+    return 0;
+  }
+  if (command == "snapshot") {
+    const std::string obj = option("--obj");
+    if (id.empty() || obj.empty()) { std::fprintf(stderr, "hapsim-ctl: snapshot ID --obj FILE\n"); return 2; }
+    hapsim::v1::MeshSnapshot snap;
+    const auto s = stub->GetSnapshot(&ctx, ref, &snap);
+    if (!s.ok()) return Fail(s);
+    Eigen::Matrix3Xd v = Eigen::Map<const Eigen::Matrix3Xd>(snap.positions_m().data(), 3, snap.positions_m_size() / 3);
+    std::vector<std::uint32_t> tris(snap.triangles().begin(), snap.triangles().end());
+    if (!hapsim::viewer::WriteObj(obj, v, tris, {}, "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s()))) {
+      std::fprintf(stderr, "hapsim-ctl: cannot write %s\n", obj.c_str());
+      return 1;
+    }
+    std::printf("wrote %s: %d vertices, %d triangles, sim time %.3f s\n", obj.c_str(), snap.positions_m_size() / 3,
+                snap.triangles_size() / 3, snap.sim_time_s());
+    return 0;
+  }
+  if (command == "score") {
+    hapsim::v1::SubmitScoresRequest req;
+    req.set_session_id(id);
+    req.set_expert(option("--expert"));
+    if (id.empty() || !ParseIndicators(option("--indicators"), &req)) {
+      std::fprintf(stderr, "hapsim-ctl: score ID --indicators a,b,c,d,e,f,g [--expert NAME]\n");
+      return 2;
+    }
+    hapsim::v1::ScoreReport r;
+    const auto s = stub->SubmitScores(&ctx, req, &r);
+    if (!s.ok()) return Fail(s);
+    PrintScores(r);
+    return 0;
+  }
+  if (command == "scores") {
+    hapsim::v1::ScoreQuery q;
+    q.set_session_id(id);
+    hapsim::v1::ScoreReport r;
+    const auto s = stub->GetScores(&ctx, q, &r);
+    if (!s.ok()) return Fail(s);
+    PrintScores(r);
+    return 0;
+  }
+  std::fprintf(stderr, "hapsim-ctl: unknown command '%s'\n%s", command.c_str(), kUsage);
+  return 2;
+}

@@ -1,0 +1,95 @@
+// hapsim-viewer: subscribes to a session's mesh stream. Headless here: it
+// keeps the mesh current from keyframe + deltas and, at the end (--frames,
+// --seconds or SIGINT/SIGTERM), writes it as OBJ and prints frame, byte and
+// gap counts. On-screen rendering is a later piece.
+#include <cstdio>
+#include <thread>
+
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <spdlog/spdlog.h>
+
+#include "hapsim/runtime/flags.h"
+#include "hapsim/runtime/logging.h"
+#include "hapsim/viewer/viewer_client.h"
+
+int main(int argc, char** argv) {
+  std::string server = "127.0.0.1:50051", obj_path, log_level = "info";
+  hapsim::viewer::ViewerOptions options;
+  int frames = 0, drop_seq = -1;
+  bool headless = true;
+  hapsim::runtime::Flags flags("hapsim-viewer",
+                               "Viewer of hapsim: subscribes to a session's frames (keyframe, then deltas) over gRPC,\n"
+                               "resyncs on a gap, and in headless mode writes the final mesh as OBJ with counts.");
+  flags.Add("server", &server, "server gRPC address host:port");
+  flags.Add("session", &options.session, "session id to watch");
+  flags.Add("name", &options.name, "viewer name shown in server logs");
+  flags.Add("headless", &headless, "no window (the only mode in this build)");
+  flags.Add("frames", &frames, "stop after this many frames (0: no limit)");
+  flags.Add("seconds", &options.max_seconds, "stop after this long [s] (0: no limit)");
+  flags.Add("max-rate-hz", &options.max_rate_hz, "ask the server for at most this frame rate (0: server's rate)");
+  flags.Add("connect-timeout-s", &options.connect_timeout_s, "give up if the server is not reachable by then [s]");
+  flags.Add("obj", &obj_path, "write the final mesh here as Wavefront OBJ (metres)");
+  flags.Add("debug-drop-seq", &drop_seq, "test only: treat the frame with this seq as lost (forces a resync)");
+  flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
+  std::string error;
+  switch (flags.Parse(argc, argv, &error)) {
+    case hapsim::runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::runtime::Flags::Result::kError: std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str()); return 2;
+    case hapsim::runtime::Flags::Result::kOk: break;
+  }
+  if (!hapsim::runtime::SetUpLogging("viewer", log_level)) {
+    std::fprintf(stderr, "hapsim-viewer: unknown --log-level '%s'\n", log_level.c_str());
+    return 2;
+  }
+  if (!headless) {
+    std::fprintf(stderr, "hapsim-viewer: this build has no on-screen renderer yet; run with --headless\n");
+    return 2;
+  }
+  if (frames < 0 || !(options.max_seconds >= 0.0) || !(options.max_rate_hz >= 0.0) || !(options.connect_timeout_s > 0.0)) {
+    std::fprintf(stderr, "hapsim-viewer: a flag is out of range (see --help)\n");
+    return 2;
+  }
+  options.max_frames = static_cast<std::uint64_t>(frames);
+  options.debug_drop_seq = drop_seq;
+
+  hapsim::viewer::ViewerClient client(hapsim::viewer::MakeViewerChannel(server), options);
+  asio::io_context io;
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const std::error_code& ec, int) {
+    if (!ec) client.Stop();
+  });
+  std::thread signal_thread([&io] { io.run(); });
+  const bool ok = client.Run();
+  io.stop();
+  signal_thread.join();
+
+  const auto& s = client.stats();
+  const auto& mesh = client.mesh();
+  std::printf("viewer: session %s, frames %llu (keyframes %llu, deltas %llu), bytes %llu, gaps %llu, "
+              "topology mismatches %llu, malformed %llu, resubscribes %llu\n",
+              options.session.c_str(), static_cast<unsigned long long>(s.frames),
+              static_cast<unsigned long long>(s.keyframes), static_cast<unsigned long long>(s.deltas),
+              static_cast<unsigned long long>(s.bytes), static_cast<unsigned long long>(s.gaps),
+              static_cast<unsigned long long>(s.topology_mismatches), static_cast<unsigned long long>(s.malformed),
+              static_cast<unsigned long long>(s.resubscribes));
+  std::string events;
+  for (const auto& [kind, count] : s.events) events += " " + kind + "=" + std::to_string(count);
+  std::printf("viewer: last seq %llu, sim time %.3f s, vertices %zu, triangles %zu, peak tool force %.3f N, events:%s\n",
+              static_cast<unsigned long long>(mesh.last_seq()), s.last_sim_time_s, mesh.vertex_count(),
+              mesh.triangles().size() / 3, s.peak_tool_force_N, events.empty() ? " none" : events.c_str());
+  std::fflush(stdout);
+  if (!obj_path.empty() && mesh.has_mesh()) {
+    const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +
+                                ", quantum " + std::to_string(mesh.quantum_m()) + " m";
+    if (!hapsim::viewer::WriteObj(obj_path, mesh.Vertices_m(), mesh.triangles(), mesh.parts(), comment)) {
+      std::fprintf(stderr, "hapsim-viewer: cannot write %s\n", obj_path.c_str());
+      return 1;
+    }
+  }
+  if (!ok) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", s.final_status.c_str());
+    return 1;
+  }
+  return 0;
+}

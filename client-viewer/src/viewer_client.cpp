@@ -1,0 +1,110 @@
+#include "hapsim/viewer/viewer_client.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <spdlog/spdlog.h>
+
+namespace hapsim::viewer {
+
+std::shared_ptr<grpc::Channel> MakeViewerChannel(const std::string& address) {
+  grpc::ChannelArguments args;
+  args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+  args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 16 * 1024);
+  args.SetMaxReceiveMessageSize(64 << 20);  // keyframes of large meshes
+  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+}
+
+ViewerClient::ViewerClient(std::shared_ptr<grpc::Channel> channel, ViewerOptions options)
+    : stub_(hapsim::v1::ViewerService::NewStub(channel)), channel_(std::move(channel)), options_(std::move(options)) {}
+
+void ViewerClient::Stop() {
+  stop_ = true;
+  std::lock_guard lock(context_mutex_);
+  if (active_context_) active_context_->TryCancel();
+}
+
+bool ViewerClient::Run() {
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  const auto deadline = options_.max_seconds > 0.0
+                            ? start + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(options_.max_seconds))
+                            : clock::time_point::max();
+  if (!channel_->WaitForConnected(std::chrono::system_clock::now() +
+                                  std::chrono::milliseconds(static_cast<long>(options_.connect_timeout_s * 1e3)))) {
+    stats_.final_status = "cannot connect to the server within " + std::to_string(options_.connect_timeout_s) + " s";
+    return false;
+  }
+  bool first_stream = true;
+  while (!stop_) {
+    grpc::ClientContext context;
+    if (deadline != clock::time_point::max()) {
+      context.set_deadline(std::chrono::system_clock::now() + (deadline - clock::now()));
+    }
+    {
+      std::lock_guard lock(context_mutex_);
+      active_context_ = &context;
+    }
+    if (stop_) context.TryCancel();
+    hapsim::v1::SubscribeRequest request;
+    request.set_session_id(options_.session);
+    request.set_max_rate_hz(options_.max_rate_hz);
+    request.set_viewer_name(options_.name);
+    auto reader = stub_->Subscribe(&context, request);
+    cache_.Invalidate();
+    bool resubscribe = false, limit_reached = false;
+    hapsim::v1::Frame frame;
+    while (reader->Read(&frame)) {
+      ++stats_.frames;
+      stats_.bytes += frame.ByteSizeLong();
+      if (frame.has_keyframe()) ++stats_.keyframes; else ++stats_.deltas;
+      for (const auto& e : frame.events()) ++stats_.events[e.kind()];
+      stats_.last_sim_time_s = frame.sim_time_s();
+      if (frame.tool().force_n_size() == 3) {
+        const double f = std::sqrt(frame.tool().force_n(0) * frame.tool().force_n(0) +
+                                   frame.tool().force_n(1) * frame.tool().force_n(1) +
+                                   frame.tool().force_n(2) * frame.tool().force_n(2));
+        stats_.peak_tool_force_N = std::max(stats_.peak_tool_force_N, f);
+      }
+      stats_.last_contact_state = frame.tool().contact_state();
+
+      const bool injected_loss = first_stream && options_.debug_drop_seq >= 0 &&
+                                 frame.seq() == static_cast<std::uint64_t>(options_.debug_drop_seq);
+      if (!injected_loss) {
+        std::string why;
+        const ApplyResult result = cache_.Apply(frame, &why);
+        if (result != ApplyResult::kApplied) {
+          if (result == ApplyResult::kGap) ++stats_.gaps;
+          if (result == ApplyResult::kTopologyMismatch) ++stats_.topology_mismatches;
+          if (result == ApplyResult::kMalformed) ++stats_.malformed;
+          spdlog::warn("frame {} refused ({}): {}; resubscribing for a keyframe", frame.seq(), ToString(result), why);
+          resubscribe = true;
+          break;
+        }
+      }
+      if (options_.max_frames > 0 && stats_.frames >= options_.max_frames) {
+        limit_reached = true;
+        break;
+      }
+    }
+    if (resubscribe || limit_reached || stop_) context.TryCancel();
+    const grpc::Status status = reader->Finish();
+    {
+      std::lock_guard lock(context_mutex_);
+      active_context_ = nullptr;
+    }
+    first_stream = false;
+    if (limit_reached || stop_) return true;
+    if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED && clock::now() >= deadline) return true;
+    if (resubscribe) {
+      ++stats_.resubscribes;
+      continue;
+    }
+    stats_.final_status = status.ok() ? "stream ended by the server"
+                                      : "stream ended: " + std::to_string(status.error_code()) + " " + status.error_message();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace hapsim::viewer
