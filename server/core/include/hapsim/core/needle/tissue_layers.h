@@ -1,0 +1,39 @@
+// The acupuncture paper's three tissue layers (Table 2) in SI units, and the
+// Table 1 shaft damping that accumulates layer by layer along the needle.
+//
+// [decide] Units of d (MISSION.md §1): the paper lists d in N·s/m but
+// multiplies it by a depth h. We read d as damping per millimetre of shaft
+// inserted: F = d [N·s/m per mm] · h [mm] · v [m/s], i.e. in SI
+//   d_SI [N·s/m²] = d_paper · 1000.
+// Skin (d = 3) then gives 3000 N·s/m² · 5 mm/s = 0.015 N per mm inserted
+// at 5 mm/s — shaft friction of order 1e-2 N per mm, as the mission asks.
+#pragma once
+#include <array>
+#include <string>
+
+namespace hapsim::core {
+
+inline constexpr int kNumTissueLayers = 3;
+
+struct TissueLayer {
+  std::string name;
+  double thickness_m = 0.0;           // h_s, h_f, h_m
+  double virtual_K_N_per_m = 0.0;     // K of the force net's virtual springs
+  double damping_Ns_per_m2 = 0.0;     // d per unit inserted length (see above)
+  int rings_w = 0;                    // w
+  double spacing_L_m = 0.0;           // L
+};
+
+// Table 2: skin 0.8 mm / 0.16 N/mm / d 3 / w 8 / L 2 mm; fat 8.4 / 0.08 / 1 /
+// 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5.
+std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers();
+
+// Table 1 damping along the shaft [N·s/m]: Σ_i d_i · h_i with h_i the length
+// of shaft inside layer i, clamped to [0, thickness_i]. depth_below_top_m[i]
+// is the tip's depth below the top of layer i; only the first
+// punctured_layers layers count (a layer's surface must be pierced before
+// its tissue grips the shaft).
+double ShaftDamping_Ns_per_m(const std::array<TissueLayer, kNumTissueLayers>& layers,
+                             const double* depth_below_top_m, int punctured_layers);
+
+}  // namespace hapsim::core
