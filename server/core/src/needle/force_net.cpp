@@ -136,8 +136,10 @@ void UpdateRingDeflections(const ForceNetModel& model, ForceNetState& s) {
 }
 
 Eigen::Vector3d NetReactionOnTip_W_N(const ForceNetModel& model, const ForceNetState& s) {
-  if (!s.anchored) return Eigen::Vector3d::Zero();
-  return -model.def.virtual_K_N_per_m * (s.x_W_m - s.rest_W_m).rowwise().sum();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  if (!s.anchored) return sum;
+  for (Eigen::Index i = 0; i < s.x_W_m.cols(); ++i) sum += s.x_W_m.col(i) - s.rest_W_m.col(i);
+  return -model.def.virtual_K_N_per_m * sum;
 }
 
 double PaperSurfaceForce_N(const ForceNetModel& model, const Eigen::VectorXd& ring_Z_m) {

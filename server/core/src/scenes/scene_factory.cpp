@@ -28,6 +28,9 @@ struct CatalogEntry {
 
 // Keep sorted by name.
 constexpr CatalogEntry kCatalog[] = {
+    {"acupuncture",
+     "three-layer SH tissue (skin/fat/muscle), mass-spring force net, layered puncture and springback",
+     &MakeAcupunctureScene},
     {"tissue_block",
      "soft tissue block: mass-spring surface grid over anchored springs, pressed by a needle",
      &MakeTissueBlockScene},

@@ -12,7 +12,7 @@ struct LimbSegmentDef {
   double radius_y_m = 0.070;        // cross-section semi-axis along body y (the top)
   double squareness = 4.0;          // superquadric exponent p (2 = ellipsoid, larger = flatter ends)
   double belly_amplitude = 0.08;    // relative radius gain of the muscle belly
-  double belly_center_uz = 0.2;     // belly position along the axis (direction cosine)
+  double belly_center_uz = 0.0;     // belly position along the axis (direction cosine); 0 = at the site
   double belly_width_uz = 0.35;
 };
 

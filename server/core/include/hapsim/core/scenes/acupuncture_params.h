@@ -1,0 +1,43 @@
+// Parameters of the `acupuncture` scene (SceneSpec::params, SI, names with
+// units). Every key is optional; unknown keys and out-of-range values throw
+// std::invalid_argument naming the key.
+//
+//   shf_lmax (8), shf_samples (600)         SH degree / samples per layer fit
+//   net_tension_ratio (30)                   k_s / K of the force-net surface springs
+//   ring_w_threshold_ratio (0.02)            ζ / L: ring w counts as deformed at Z_w >= ζ
+//   springback_eta0 (1), springback_eta_rate_per_step (0.02)   η start and η_r
+//   tunnel_stiffness_N_per_m (300)           lateral needle-tunnel stiffness after puncture
+//   render_stiffness_max_N_per_m (2000)      cap on the contact stiffness sent to the device
+//   contact_damping_Ns_per_m (0.5)           damper in the local contact model (device only)
+//   patch_size_m (0.06), patch_grid_nodes (41)   displayed square of each layer surface
+//   <layer>_thickness_m, <layer>_K_N_per_m, <layer>_d_Ns_per_m2, <layer>_rings,
+//   <layer>_spacing_m for layer in skin, fat, muscle   (defaults: Table 2, tissue_layers.h)
+#pragma once
+#include <array>
+#include <map>
+#include <string>
+
+#include "hapsim/core/needle/tissue_layers.h"
+
+namespace hapsim::core {
+
+struct AcupunctureParams {
+  int shf_lmax = 8;
+  int shf_samples = 600;
+  double net_tension_ratio = 30.0;
+  double ring_w_threshold_ratio = 0.02;
+  double springback_eta0 = 1.0;
+  double springback_eta_rate_per_step = 0.02;
+  double tunnel_stiffness_N_per_m = 300.0;
+  double render_stiffness_max_N_per_m = 2000.0;
+  double contact_damping_Ns_per_m = 0.5;
+  double patch_size_m = 0.06;
+  int patch_grid_nodes = 41;
+  double needle_length_m = 0.05;
+  double needle_radius_m = 1.5e-4;  // 0.3 mm acupuncture needle
+  std::array<TissueLayer, kNumTissueLayers> layers = PaperTissueLayers();
+};
+
+AcupunctureParams ParseAcupunctureParams(const std::map<std::string, double>& params);
+
+}  // namespace hapsim::core

@@ -1,0 +1,188 @@
+// hapsim-validate puncture: constant-speed needle insertion through skin,
+// fat and muscle of the acupuncture scene and back out, checked against the
+// paper's Table 1/2 model and the measured skin puncture range.
+//
+// Protocol: needle vertical (identity orientation), tip from 2 mm above the
+// skin at the acupuncture site straight down at 5 mm/s to 30 mm depth (well
+// into muscle), then back up at 5 mm/s to 2 mm above; 1 kHz ticks.
+//
+// Writes force_depth.csv (t_s,depth_mm,force_N,layer,state; force_N is the
+// axial force on the needle, positive = pushing it out of the tissue),
+// springback.csv (t_s,offset_mm: skin puncture point above the tip reference
+// line at the puncture instant; t from the puncture), punctures.csv and
+// summary.md.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "hapsim/core/scenes/acupuncture_scene.h"
+#include "hapsim/core/scenes/scene.h"
+#include "validate_command.h"
+
+namespace hapsim::validate {
+namespace {
+
+using core::AcupunctureScene;
+
+constexpr double kSpeed_m_per_s = 5e-3;
+constexpr double kDt_s = 1e-3;
+constexpr double kStart_m = 2e-3;       // above the skin
+constexpr double kMaxDepth_m = 30e-3;   // below the skin top
+constexpr int kSpringbackSteps = 300;
+
+struct Sample {
+  double t_s, depth_m, force_N;
+  int layer;
+  std::string state;
+  bool inserting;
+};
+
+struct Check {
+  std::string claim;
+  bool ok;
+  std::string detail;
+};
+
+int Run(const std::filesystem::path& out) {
+  AcupunctureScene scene(core::AcupunctureParams{});
+  std::vector<Sample> samples;
+  std::vector<std::pair<double, double>> springback;  // (t since puncture, offset)
+  std::vector<std::size_t> puncture_sample;           // index of the tick of each puncture
+  std::vector<int> puncture_layer;
+  std::uint64_t events_seen = 0;
+  double skin_puncture_t = -1.0;
+
+  const int insert_steps = static_cast<int>(std::lround((kStart_m + kMaxDepth_m) / (kSpeed_m_per_s * kDt_s)));
+  for (int k = 0; k <= 2 * insert_steps; ++k) {
+    const bool inserting = k <= insert_steps;
+    const double travelled_m = kSpeed_m_per_s * kDt_s * (inserting ? k : 2 * insert_steps - k);
+    core::ToolInput tool;
+    tool.valid = true;
+    tool.tip_W_m = Eigen::Vector3d(0, 0, kStart_m - travelled_m);
+    tool.velocity_W_m_per_s = Eigen::Vector3d(0, 0, inserting ? -kSpeed_m_per_s : kSpeed_m_per_s);
+    scene.Step(tool, kDt_s);
+    const auto events = scene.Events();
+    for (std::uint64_t e = events_seen; e < scene.EventsTotal(); ++e) {
+      const core::SceneEvent& ev = events[events.size() - (scene.EventsTotal() - e)];
+      if (ev.kind != core::SceneEventKind::kPuncture) continue;
+      puncture_sample.push_back(samples.size());
+      puncture_layer.push_back(ev.layer);
+      if (ev.layer == 0) skin_puncture_t = scene.SimTime_s();
+    }
+    events_seen = scene.EventsTotal();
+    samples.push_back({scene.SimTime_s(), scene.Status().tip_depth_m, scene.ToolForce_W_N().z(),
+                       scene.Status().current_layer, core::ToString(scene.ForceModel().state), inserting});
+    if (skin_puncture_t >= 0.0 && static_cast<int>(springback.size()) <= kSpringbackSteps)
+      springback.emplace_back(scene.SimTime_s() - skin_puncture_t, *scene.PuncturePointOffset_m(0));
+  }
+
+  {
+    std::ofstream f(out / "force_depth.csv");
+    f << "t_s,depth_mm,force_N,layer,state\n";
+    for (const auto& s : samples) {
+      char line[160];
+      std::snprintf(line, sizeof line, "%.4f,%.6f,%.6e,%d,%s\n", s.t_s, 1e3 * s.depth_m, s.force_N, s.layer,
+                    s.state.c_str());
+      f << line;
+    }
+  }
+  {
+    std::ofstream f(out / "springback.csv");
+    f << "t_s,offset_mm\n";
+    for (const auto& [t, off] : springback) {
+      char line[80];
+      std::snprintf(line, sizeof line, "%.4f,%.6e\n", t, 1e3 * off);
+      f << line;
+    }
+  }
+
+  // Expected puncture depth of layer i: its top (cumulative thickness above)
+  // plus the net's critical deflection Z1* = ζ / g_w; expected peak force
+  // K Σg Z1* plus the Table 1 damping of the layers above.
+  std::vector<Check> checks;
+  std::ofstream pf(out / "punctures.csv");
+  pf << "layer,name,depth_mm,expected_depth_mm,peak_force_N,expected_peak_force_N,force_after_N\n";
+  bool order_ok = puncture_layer.size() == 3;
+  for (std::size_t i = 0; i < puncture_layer.size(); ++i) order_ok = order_ok && puncture_layer[i] == static_cast<int>(i);
+  checks.push_back({"three punctures, skin then fat then muscle", order_ok,
+                    std::to_string(puncture_layer.size()) + " puncture events"});
+  double top_m = 0.0, shaft_b = 0.0;
+  const auto& layers = scene.Params().layers;
+  for (std::size_t i = 0; i < puncture_layer.size() && i < 3; ++i) {
+    const core::ForceNetModel& net = scene.Net(static_cast<int>(i));
+    const double z1_m = net.critical_deflection_m;
+    const double expected_depth_m = top_m + z1_m;
+    const double expected_peak_N = net.def.virtual_K_N_per_m * net.influence_sum * z1_m + shaft_b * kSpeed_m_per_s;
+    const Sample& at = samples[puncture_sample[i] - 1];  // last tick before the puncture tick
+    const Sample& after = samples[puncture_sample[i]];
+    const double step_m = kSpeed_m_per_s * kDt_s;
+    char row[200];
+    std::snprintf(row, sizeof row, "%zu,%s,%.6f,%.6f,%.6f,%.6f,%.6f\n", i, layers[i].name.c_str(), 1e3 * after.depth_m,
+                  1e3 * expected_depth_m, at.force_N, expected_peak_N, after.force_N);
+    pf << row;
+    const std::string name = layers[i].name;
+    checks.push_back({name + " punctures at top + Z1* (within one 5 um tick)",
+                      std::abs(after.depth_m - expected_depth_m) <= step_m + 1e-9,
+                      "depth " + std::to_string(1e3 * after.depth_m) + " mm, expected " +
+                          std::to_string(1e3 * expected_depth_m) + " mm"});
+    checks.push_back({name + " peak force = K sum(g) Z1 + shaft damping (within one tick of rise)",
+                      std::abs(at.force_N - expected_peak_N) <= net.def.virtual_K_N_per_m * net.influence_sum * step_m + 1e-9,
+                      std::to_string(at.force_N) + " N vs " + std::to_string(expected_peak_N) + " N"});
+    checks.push_back({name + " force drops at puncture", after.force_N < at.force_N,
+                      std::to_string(at.force_N) + " -> " + std::to_string(after.force_N) + " N"});
+    // Monotone rise from first contact with this layer's surface to puncture.
+    std::size_t begin = puncture_sample[i] - 1;
+    while (begin > 0 && samples[begin - 1].layer == static_cast<int>(i) && samples[begin - 1].state != "free" &&
+           samples[begin - 1].force_N <= samples[begin].force_N + 1e-15)
+      --begin;
+    bool monotone = true;
+    for (std::size_t k = begin + 1; k < puncture_sample[i]; ++k)
+      monotone = monotone && samples[k].force_N >= samples[k - 1].force_N - 1e-15;
+    const bool rose_over_contact = samples[begin].force_N < at.force_N;
+    checks.push_back({name + " force rises monotonically before puncture", monotone && rose_over_contact,
+                      "over " + std::to_string(puncture_sample[i] - begin) + " ticks"});
+    if (i == 0)
+      checks.push_back({"skin peak puncture force within 0.1-2 N (van Gerwen 2012)", at.force_N > 0.1 && at.force_N < 2.0,
+                        std::to_string(at.force_N) + " N"});
+    shaft_b += layers[i].damping_Ns_per_m2 * layers[i].thickness_m;
+    top_m += layers[i].thickness_m;
+  }
+  // Withdrawal: shaft friction only, F = -(sum d h) v, pulling the needle in.
+  double worst_withdraw_N = 0.0;
+  bool withdraw_negative = true;
+  for (const auto& s : samples) {
+    if (s.inserting || s.depth_m <= 0.0) continue;
+    double b = 0.0, top = 0.0;
+    for (const auto& l : layers) {
+      b += l.damping_Ns_per_m2 * std::clamp(s.depth_m - top, 0.0, l.thickness_m);
+      top += l.thickness_m;
+    }
+    worst_withdraw_N = std::max(worst_withdraw_N, std::abs(s.force_N + b * kSpeed_m_per_s));
+    withdraw_negative = withdraw_negative && s.force_N <= 0.0;
+  }
+  checks.push_back({"withdrawal gives shaft friction only: F = -(sum d_i h_i) v", worst_withdraw_N < 1e-9 && withdraw_negative,
+                    "max deviation " + std::to_string(worst_withdraw_N) + " N"});
+  const double final_offset = springback.empty() ? -1.0 : springback.back().second;
+  checks.push_back({"skin springs back above the tip reference line", final_offset > 0.0,
+                    "final offset " + std::to_string(1e3 * final_offset) + " mm"});
+  checks.push_back({"back to free once the tip leaves the skin", samples.back().state == "free", samples.back().state});
+
+  bool all = true;
+  std::ofstream md(out / "summary.md");
+  md << "# puncture validation\n\nInsertion at " << 1e3 * kSpeed_m_per_s << " mm/s to " << 1e3 * kMaxDepth_m
+     << " mm depth and back, 1 kHz.\n\n| claim | ok | detail |\n|---|---|---|\n";
+  for (const auto& c : checks) {
+    md << "| " << c.claim << " | " << (c.ok ? "yes" : "**NO**") << " | " << c.detail << " |\n";
+    std::printf("%-70s %s  %s\n", c.claim.c_str(), c.ok ? "ok  " : "FAIL", c.detail.c_str());
+    all = all && c.ok;
+  }
+  return all ? 0 : 1;
+}
+
+}  // namespace
+
+HAPSIM_VALIDATE_COMMAND("puncture", "acupuncture needle insertion: force-depth curve, layered punctures, springback", &Run);
+
+}  // namespace hapsim::validate
