@@ -1,0 +1,95 @@
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "backends/replay_device.h"
+#include "backends/synthetic_device.h"
+
+namespace hapsim::bridge {
+namespace {
+
+TEST(SyntheticInsertion, FollowsApproachPressHoldWithdrawAtTheScriptedSpeed) {
+  SyntheticScript s;  // 10 mm above, 5 mm deep, 10 mm/s, hold 0.5 s
+  SyntheticDevice d(s);
+  auto at = [&](double t) { return d.Read(t); };
+  EXPECT_NEAR(at(0.0).tip_W_m.z(), 0.010, 1e-12);
+  EXPECT_STREQ(at(0.5).phase, "approach");
+  EXPECT_NEAR(at(0.5).tip_W_m.z(), 0.005, 1e-12);
+  EXPECT_STREQ(at(1.25).phase, "press");  // surface at 1.0 s, depth at 1.5 s
+  EXPECT_NEAR(at(1.25).tip_W_m.z(), -0.0025, 1e-12);
+  EXPECT_NEAR(at(1.25).velocity_W_m_per_s.z(), -0.01, 1e-12);
+  EXPECT_STREQ(at(1.7).phase, "hold");
+  EXPECT_NEAR(at(1.7).tip_W_m.z(), -0.005, 1e-12);
+  EXPECT_STREQ(at(2.5).phase, "withdraw");  // withdraw starts at 2.0 s
+  EXPECT_NEAR(at(2.5).tip_W_m.z(), 0.0, 1e-12);
+  EXPECT_NEAR(at(3.5).tip_W_m.z(), 0.010, 1e-12);  // cycle of 3.5 s restarts
+  EXPECT_FALSE(at(100.0).finished);               // insertion repeats
+}
+
+TEST(SyntheticConstantSpeed, RunsOnceInAndOutThenFinishes) {
+  SyntheticScript s;
+  s.kind = "constant_speed";
+  s.depth_m = 0.02;
+  s.start_height_m = 0.002;
+  s.speed_m_per_s = 0.005;
+  SyntheticDevice d(s);
+  EXPECT_NEAR(d.Read(2.4).tip_W_m.z(), -0.010, 1e-12);  // 0.4 s approach + 2 s press
+  EXPECT_STREQ(d.Read(4.5).phase, "withdraw");         // depth reached at 4.4 s
+  EXPECT_TRUE(d.Read(10.0).finished);                  // 4.4 + 4.4 s
+}
+
+TEST(SyntheticRandomWalk, StaysInItsBoxAndIsDeterministicPerSeed) {
+  SyntheticScript s;
+  s.kind = "random_walk";
+  s.walk_step_m = 0.002;
+  SyntheticDevice a(s), b(s);
+  for (int i = 1; i <= 5000; ++i) {
+    const auto ra = a.Read(i * 1e-3);
+    const auto rb = b.Read(i * 1e-3);
+    ASSERT_EQ(ra.tip_W_m, rb.tip_W_m);
+    ASSERT_LE(std::abs(ra.tip_W_m.x()), s.walk_radius_m + 1e-12);
+    ASSERT_LE(ra.tip_W_m.z(), s.start_height_m + 1e-12);
+    ASSERT_GE(ra.tip_W_m.z(), -s.depth_m - 1e-12);
+  }
+}
+
+TEST(SyntheticDevice, RejectsUnknownScriptAndBadNumbers) {
+  SyntheticScript s;
+  s.kind = "dance";
+  EXPECT_THROW(SyntheticDevice{s}, std::invalid_argument);
+  s = {};
+  s.speed_m_per_s = 0.0;
+  EXPECT_THROW(SyntheticDevice{s}, std::invalid_argument);
+}
+
+TEST(ReplayDevice, InterpolatesBetweenRowsAndHoldsAtTheEnd) {
+  const auto rows = ParsePoseLog(
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,extra\n"
+      "1.0,0,0,0.01,1,0,0,0,ignored\n"
+      "1.1,0,0,0.00,1,0,0,0,ignored\n"
+      "1.3,0.002,0,0.00,1,0,0,0\n");
+  ReplayDevice d(rows);
+  EXPECT_NEAR(d.Read(0.05).tip_W_m.z(), 0.005, 1e-12);  // halfway between the first two rows
+  EXPECT_NEAR(d.Read(0.05).velocity_W_m_per_s.z(), -0.1, 1e-12);
+  EXPECT_NEAR(d.Read(0.2).tip_W_m.x(), 0.001, 1e-12);
+  const auto end = d.Read(1.0);
+  EXPECT_TRUE(end.finished);
+  EXPECT_NEAR(end.tip_W_m.x(), 0.002, 1e-12);
+}
+
+TEST(ReplayDevice, MalformedLogsNameTheLine) {
+  try {
+    ParsePoseLog("header\n0,0,0,0,1,0,0,0\n0.1,0,nan,0,1,0,0,0\n");
+    FAIL() << "expected an error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParsePoseLog("h\n0,0,0,0,1,0,0,0\n0,0,0,0,1,0,0,0\n"), std::invalid_argument);  // t not increasing
+  EXPECT_THROW(ParsePoseLog("h\n0,0,0,0,2,0,0,0\n"), std::invalid_argument);                   // not unit
+  EXPECT_THROW(ParsePoseLog("h\n0,0,0\n"), std::invalid_argument);                             // short row
+  EXPECT_THROW(ParsePoseLog("h\n"), std::invalid_argument);                                    // empty
+}
+
+}  // namespace
+}  // namespace hapsim::bridge

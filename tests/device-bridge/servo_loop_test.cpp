@@ -1,0 +1,62 @@
+// The servo loop end to end in one process, with the DDS side replaced by
+// direct mailbox access: the watchdog must take the force to zero when the
+// force model stops coming, whatever the model last said.
+#include "hapsim/bridge/servo_loop.h"
+
+#include <atomic>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "backends/synthetic_device.h"
+#include "hapsim/runtime/clock.h"
+
+namespace hapsim::bridge {
+namespace {
+
+TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
+  SyntheticScript script;
+  script.kind = "hold";
+  script.start_height_m = 0.0;
+  script.entry_W_m = Eigen::Vector3d(0, 0, -0.002);  // held 2 mm into the tissue: the contact model pushes
+  SyntheticDevice device(script);
+  runtime::LatestValue<hapsim_dds_StylusPose> poses;
+  runtime::LatestValue<ReceivedModel> models;
+  ServoConfig config;
+  config.run_seconds = 0.4;
+  config.trace_capacity = 1000;
+  ServoLoop loop(&device, config, &poses, &models, [] {});
+
+  // One contact model (k = 500 N/m at the surface -> 1 N at 2 mm), then silence.
+  ReceivedModel m;
+  m.msg.state = 1;
+  m.msg.normal[2] = 1.0;
+  m.msg.stiffness_n_per_m = 500.0;
+  m.msg.echo_pose_seq = 0;
+  m.received_ns = runtime::SteadyNowNs();
+  models.Publish(m);
+  std::atomic<bool> stop{false};
+  const ServoReport r = loop.Run(stop);
+
+  ASSERT_GT(r.trace.size(), 300u);
+  EXPECT_EQ(r.models_received, 1u);
+  // Before the fade (model younger than 50 ms) the force ramps at the rise
+  // limit (50 N/s: 20 ms) up to the model's 1 N.
+  double peak = 0.0;
+  for (const auto& row : r.trace) {
+    if (row.model_age_ms >= 0.0 && row.model_age_ms < 50.0) peak = std::max(peak, row.force_W_N.z());
+  }
+  EXPECT_NEAR(peak, 1.0, 0.05);
+  // Late: the model is > 100 ms old, the force is exactly zero and the
+  // watchdog has disarmed once.
+  EXPECT_EQ(r.trace.back().force_W_N.norm(), 0.0);
+  EXPECT_EQ(r.trace.back().watchdog, WatchdogState::kDisarmed);
+  EXPECT_EQ(r.safety.disarms, 1u);
+  // Never above the clamp.
+  EXPECT_LE(r.peak_force_N, config.safety.max_force_N + 1e-12);
+  // The last device command leaves the motors at zero force.
+  EXPECT_EQ(device.last_force_W_N().norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace hapsim::bridge

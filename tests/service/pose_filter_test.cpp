@@ -1,0 +1,70 @@
+#include "hapsim/service/pose_filter.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+namespace hapsim::service {
+namespace {
+
+hapsim_dds_StylusPose GoodPose() {
+  hapsim_dds_StylusPose p{};
+  std::strcpy(p.session, "s1");
+  p.pos_m[2] = 0.01;
+  p.quat_wxyz[0] = 1.0;
+  return p;
+}
+
+TEST(PoseFilter, AcceptsAndNormalisesAGoodPose) {
+  auto p = GoodPose();
+  p.quat_wxyz[0] = 1.01;  // within tolerance: normalised
+  PoseRejection why;
+  const auto tool = FilterPose(p, {}, &why);
+  ASSERT_TRUE(tool);
+  EXPECT_EQ(why, PoseRejection::kNone);
+  EXPECT_TRUE(tool->valid);
+  EXPECT_NEAR(tool->orientation_W.norm(), 1.0, 1e-15);
+  EXPECT_DOUBLE_EQ(tool->tip_W_m.z(), 0.01);
+}
+
+TEST(PoseFilter, DropsNonFiniteValues) {
+  for (int field = 0; field < 3; ++field) {
+    auto p = GoodPose();
+    if (field == 0) p.pos_m[1] = std::nan("");
+    if (field == 1) p.vel_m_per_s[0] = std::numeric_limits<double>::infinity();
+    if (field == 2) p.quat_wxyz[3] = std::nan("");
+    PoseRejection why;
+    EXPECT_FALSE(FilterPose(p, {}, &why));
+    EXPECT_EQ(why, PoseRejection::kNotFinite);
+  }
+}
+
+TEST(PoseFilter, DropsAbsurdPositionSpeedAndQuaternion) {
+  PoseRejection why;
+  auto p = GoodPose();
+  p.pos_m[0] = 5.0;
+  EXPECT_FALSE(FilterPose(p, {}, &why));
+  EXPECT_EQ(why, PoseRejection::kPositionOutOfRange);
+  p = GoodPose();
+  p.vel_m_per_s[2] = -50.0;
+  EXPECT_FALSE(FilterPose(p, {}, &why));
+  EXPECT_EQ(why, PoseRejection::kSpeedOutOfRange);
+  p = GoodPose();
+  p.quat_wxyz[0] = 0.0;
+  EXPECT_FALSE(FilterPose(p, {}, &why));
+  EXPECT_EQ(why, PoseRejection::kBadQuaternion);
+}
+
+TEST(PoseFilter, DropsSessionFieldWithoutTerminator) {
+  auto p = GoodPose();
+  std::memset(p.session, 'x', sizeof p.session);
+  PoseRejection why;
+  EXPECT_FALSE(FilterPose(p, {}, &why));
+  EXPECT_EQ(why, PoseRejection::kBadSession);
+  EXPECT_TRUE(SessionIdOf(p.session).empty());
+}
+
+}  // namespace
+}  // namespace hapsim::service

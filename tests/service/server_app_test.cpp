@@ -1,0 +1,173 @@
+// The server facing bad clients: unknown sessions, bad requests, NaN poses,
+// oversized messages and viewers that vanish mid-stream. In every case the
+// caller gets a clear status and the server keeps ticking.
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <thread>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "hapsim/runtime/dds.h"
+#include "hapsim/service/server_app.h"
+#include "hapsim/v1/session.grpc.pb.h"
+#include "hapsim/v1/viewer.grpc.pb.h"
+
+namespace hapsim::service {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Each test gets its own DDS domain so parallel ctest runs do not mix.
+std::uint32_t NextDomain() {
+  static std::uint32_t domain = 40 + static_cast<std::uint32_t>(::getpid() % 100);
+  return domain++;
+}
+
+class ServerAppTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ServerOptions o;
+    o.listen_address = "127.0.0.1:0";
+    domain_ = NextDomain();
+    o.dds.domain_id = domain_;
+    o.sessions.max_sessions = 3;
+    app_ = std::make_unique<ServerApp>(o);
+    channel_ = grpc::CreateChannel("127.0.0.1:" + std::to_string(app_->bound_port()), grpc::InsecureChannelCredentials());
+    sessions_ = hapsim::v1::SessionService::NewStub(channel_);
+    viewers_ = hapsim::v1::ViewerService::NewStub(channel_);
+  }
+  void TearDown() override { app_->Shutdown(); }
+
+  grpc::Status Create(const std::string& id, const std::string& scene = "tissue_block",
+                      std::map<std::string, double> params = {}) {
+    grpc::ClientContext ctx;
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id(id);
+    req.set_scene(scene);
+    for (const auto& [k, v] : params) (*req.mutable_params())[k] = v;
+    hapsim::v1::SessionInfo info;
+    return sessions_->CreateSession(&ctx, req, &info);
+  }
+  hapsim::v1::SessionInfo Info(const std::string& id, grpc::Status* status = nullptr) {
+    grpc::ClientContext ctx;
+    hapsim::v1::SessionRef ref;
+    ref.set_session_id(id);
+    hapsim::v1::SessionInfo info;
+    const auto s = sessions_->GetSession(&ctx, ref, &info);
+    if (status) *status = s;
+    return info;
+  }
+
+  std::uint32_t domain_ = 0;
+  std::unique_ptr<ServerApp> app_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<hapsim::v1::SessionService::Stub> sessions_;
+  std::unique_ptr<hapsim::v1::ViewerService::Stub> viewers_;
+};
+
+TEST_F(ServerAppTest, UnknownSessionIsNotFoundForEveryCall) {
+  grpc::Status s;
+  Info("nope", &s);
+  EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND);
+  grpc::ClientContext ctx;
+  hapsim::v1::SubscribeRequest req;
+  req.set_session_id("nope");
+  auto reader = viewers_->Subscribe(&ctx, req);
+  hapsim::v1::Frame frame;
+  EXPECT_FALSE(reader->Read(&frame));
+  EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::NOT_FOUND);
+  grpc::ClientContext ctx2;
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("nope");
+  hapsim::v1::CloseSessionResponse closed;
+  EXPECT_EQ(sessions_->CloseSession(&ctx2, ref, &closed).error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+TEST_F(ServerAppTest, BadCreateRequestsGetClearErrors) {
+  EXPECT_EQ(Create("bad id!").error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  const auto unknown_scene = Create("a", "no_such_scene");
+  EXPECT_EQ(unknown_scene.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(unknown_scene.error_message().find("no_such_scene"), std::string::npos);
+  EXPECT_EQ(Create("b", "tissue_block", {{"no_such_param", 1.0}}).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(Create("c", "tissue_block", {{"grid_nodes", std::nan("")}}).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  ASSERT_TRUE(Create("d").ok());
+  EXPECT_EQ(Create("d").error_code(), grpc::StatusCode::ALREADY_EXISTS);
+  ASSERT_TRUE(Create("e").ok());
+  ASSERT_TRUE(Create("f").ok());
+  EXPECT_EQ(Create("g").error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);  // max 3
+}
+
+TEST_F(ServerAppTest, OversizedMessageIsRefusedAndServerStaysUp) {
+  grpc::ClientContext ctx;
+  hapsim::v1::CreateSessionRequest req;
+  req.set_session_id("big");
+  req.set_owner(std::string(2 << 20, 'x'));  // 2 MiB > 1 MiB limit
+  hapsim::v1::SessionInfo info;
+  EXPECT_EQ(sessions_->CreateSession(&ctx, req, &info).error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_TRUE(Create("small").ok());
+}
+
+TEST_F(ServerAppTest, NanPosesAreDroppedAndCountedWhileTheSessionKeepsTicking) {
+  ASSERT_TRUE(Create("nan").ok());
+  runtime::DdsParticipant participant({domain_, ""});
+  runtime::DdsWriter<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose");
+  hapsim_dds_StylusPose pose{};
+  pose.device_id = 7;
+  std::strcpy(pose.session, "nan");
+  pose.quat_wxyz[0] = 1.0;
+  pose.pos_m[0] = std::nan("");
+  hapsim_dds_StylusPose stranger = pose;
+  std::strcpy(stranger.session, "nobody");
+  stranger.pos_m[0] = 0.0;
+  // Keep sending until discovery has matched and enough samples arrived
+  // (bounded: at most 3 s).
+  const auto& c = app_->dds().counters();
+  for (int i = 0; i < 3000 && (c.poses_rejected.load() < 50 || c.poses_unknown_session.load() < 5); ++i) {
+    pose.seq = static_cast<std::uint64_t>(i);
+    writer.Write(pose);
+    writer.Write(stranger);
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_GE(c.poses_rejected.load(), 50u);
+  EXPECT_GE(c.poses_unknown_session.load(), 5u);
+  const auto info = Info("nan");
+  EXPECT_GE(info.poses_rejected(), 50u);
+  EXPECT_EQ(info.poses_received(), 0u);
+  EXPECT_EQ(info.numerical_resets(), 0u);
+  std::this_thread::sleep_for(50ms);
+  EXPECT_GT(Info("nan").ticks(), info.ticks());  // still ticking
+}
+
+TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
+  ASSERT_TRUE(Create("v").ok());
+  {
+    grpc::ClientContext ctx;
+    hapsim::v1::SubscribeRequest req;
+    req.set_session_id("v");
+    auto reader = viewers_->Subscribe(&ctx, req);
+    hapsim::v1::Frame frame;
+    ASSERT_TRUE(reader->Read(&frame));
+    EXPECT_TRUE(frame.has_keyframe());
+    EXPECT_EQ(frame.seq(), 0u);
+    ASSERT_TRUE(reader->Read(&frame));
+    EXPECT_EQ(frame.seq(), 1u);
+    ctx.TryCancel();  // the viewer goes away abruptly
+    while (reader->Read(&frame)) {
+    }
+    reader->Finish();
+  }
+  // The stream is cleaned up and the session keeps ticking.
+  for (int i = 0; i < 100 && Info("v").viewers() != 0; ++i) std::this_thread::sleep_for(10ms);
+  const auto before = Info("v");
+  EXPECT_EQ(before.viewers(), 0u);
+  std::this_thread::sleep_for(100ms);
+  EXPECT_GT(Info("v").ticks(), before.ticks());
+  EXPECT_TRUE(Create("after").ok());
+}
+
+}  // namespace
+}  // namespace hapsim::service
