@@ -1,5 +1,6 @@
 #include "hapsim/bridge/servo_loop.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -96,7 +97,9 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
       local = ToCoreModel(model.msg);
       have_model = true;
     }
-    const double age_s = have_model ? static_cast<double>(now_ns - model.received_ns) * 1e-9 : -1.0;
+    // A model can land between the clock read above and the take: age 0, not
+    // negative (negative means "no model" to the safety layer).
+    const double age_s = have_model ? std::max(0.0, static_cast<double>(now_ns - model.received_ns) * 1e-9) : -1.0;
     if (have_model) model_age.Record(age_s);
 
     // 3. force: local model -> safety -> device

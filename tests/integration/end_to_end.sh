@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# End-to-end test: hapsim-server + hapsim-bridge (synthetic insertion) +
+# hapsim-viewer (headless) on loopback. Checks, via check_end_to_end.py:
+#  - the bridge received force models whose echoed pose seq advances;
+#  - contact force is nonzero while pressing and ~0 once withdrawn;
+#  - the viewer's final mesh equals the server's snapshot within the
+#    quantisation step, after an injected frame loss forced a resync;
+#  - every process exits 0 on SIGTERM.
+# Bounded: every wait has a time limit; nothing leaves 127.0.0.1.
+set -euo pipefail
+bin=${1:?usage: end_to_end.sh BIN_DIR WORK_DIR}
+work=${2:?usage: end_to_end.sh BIN_DIR WORK_DIR}
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+domain=$((150 + RANDOM % 60))   # test-only DDS domain
+session=e2e
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+
+"$bin/hapsim-server" --listen 127.0.0.1:0 --sessions "$session" --dds-domain "$domain" >server.out 2>server.log &
+server=$!; pids+=("$server")
+port=""
+for _ in $(seq 1 100); do
+  port=$(sed -n 's/.*listening on .*(port \([0-9]*\)).*/\1/p' server.log | head -n1)
+  [ -n "$port" ] && break
+  sleep 0.1
+done
+[ -n "$port" ] || { echo "server did not start"; cat server.log; exit 1; }
+addr=127.0.0.1:$port
+
+"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \
+    --debug-drop-seq 20 --name e2e-viewer >viewer.out 2>viewer.log &
+viewer=$!; pids+=("$viewer")
+
+# Two insertion cycles (5 mm above -> 4 mm deep -> back), then SIGTERM.
+"$bin/hapsim-bridge" --session "$session" --dds-domain "$domain" --script insertion \
+    --start-height-mm 5 --depth-mm 4 --speed-mm-s 20 --hold-s 0.3 --trace trace.csv >bridge.out 2>bridge.log &
+bridge=$!; pids+=("$bridge")
+sleep 3.2
+kill -TERM "$bridge"
+wait "$bridge" && bridge_rc=0 || bridge_rc=$?
+
+# A second device run holds the needle 4 mm deep; freeze the session there
+# and take the server's full-precision copy of the deformed mesh.
+"$bin/hapsim-bridge" --session "$session" --dds-domain "$domain" --script insertion \
+    --start-height-mm 5 --depth-mm 4 --speed-mm-s 20 --hold-s 30 >bridge2.out 2>bridge2.log &
+bridge2=$!; pids+=("$bridge2")
+sleep 1.2
+"$bin/hapsim-ctl" --server "$addr" pause "$session" >ctl.out
+sleep 0.5
+"$bin/hapsim-ctl" --server "$addr" snapshot "$session" --obj server.obj >>ctl.out
+"$bin/hapsim-ctl" --server "$addr" info "$session" >>ctl.out
+sleep 0.3
+kill -TERM "$bridge2"
+wait "$bridge2" || true
+
+kill -TERM "$viewer"
+wait "$viewer" && viewer_rc=0 || viewer_rc=$?
+kill -TERM "$server"
+wait "$server" && server_rc=0 || server_rc=$?
+pids=()
+
+echo "exit codes: server $server_rc, bridge $bridge_rc, viewer $viewer_rc"
+cat bridge.out viewer.out server.out ctl.out
+/usr/bin/python3 "$here/check_end_to_end.py" "$work" "$server_rc" "$bridge_rc" "$viewer_rc"
