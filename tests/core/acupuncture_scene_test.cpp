@@ -1,0 +1,289 @@
+// acupuncture scene: the Scene contract (catalogue, no allocation in Step,
+// determinism, bad input), the layered puncture physics of Table 1/2, the
+// springback, and the local force model reproducing the physics force.
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "allocation_counter.h"
+#include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/core/scenes/acupuncture_scene.h"
+
+namespace hapsim::core {
+namespace {
+
+constexpr double kTick_s = 1e-3;
+constexpr double kSpeed_m_per_s = 5e-3;
+
+ToolInput VerticalTool(double z_m, double vz_m_per_s) {
+  ToolInput t;
+  t.valid = true;
+  t.tip_W_m = Eigen::Vector3d(0, 0, z_m);
+  t.velocity_W_m_per_s = Eigen::Vector3d(0, 0, vz_m_per_s);
+  return t;
+}
+
+struct Trace {
+  std::vector<double> depth_m, force_N;
+  std::vector<int> layer;
+  std::vector<SceneEvent> punctures;
+  std::vector<std::size_t> puncture_tick;
+};
+
+// Constant-speed insertion from 1 mm above the skin to depth_m.
+Trace Insert(AcupunctureScene& scene, double depth_m) {
+  Trace tr;
+  const double step_m = kSpeed_m_per_s * kTick_s;
+  std::uint64_t seen = scene.EventsTotal();
+  for (double z = 1e-3; z > -depth_m; z -= step_m) {
+    scene.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
+    const auto ev = scene.Events();
+    for (std::uint64_t e = seen; e < scene.EventsTotal(); ++e) {
+      const SceneEvent& x = ev[ev.size() - (scene.EventsTotal() - e)];
+      if (x.kind == SceneEventKind::kPuncture) {
+        tr.punctures.push_back(x);
+        tr.puncture_tick.push_back(tr.force_N.size());
+      }
+    }
+    seen = scene.EventsTotal();
+    tr.depth_m.push_back(scene.Status().tip_depth_m);
+    tr.force_N.push_back(scene.ToolForce_W_N().z());
+    tr.layer.push_back(scene.Status().current_layer);
+  }
+  return tr;
+}
+
+class AcupunctureSceneTest : public ::testing::Test {
+ protected:
+  AcupunctureScene scene_{AcupunctureParams{}};
+};
+
+TEST(AcupunctureCatalogue, MakeSceneBuildsItWithLayersAndParts) {
+  const auto scene = MakeScene({"acupuncture", {{"shf_lmax", 6}}});
+  ASSERT_NE(scene, nullptr);
+  EXPECT_EQ(scene->Name(), "acupuncture");
+  EXPECT_EQ(scene->Status().layer_names, (std::vector<std::string>{"skin", "fat", "muscle"}));
+  ASSERT_EQ(scene->Parts().size(), 4u);
+  const char* names[] = {"skin", "fat", "muscle", "needle"};
+  std::uint32_t next = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(scene->Parts()[i].name, names[i]);
+    EXPECT_EQ(scene->Parts()[i].first_triangle, next);  // parts tile the triangle list
+    next += scene->Parts()[i].triangle_count;
+  }
+  EXPECT_EQ(next * 3, scene->Triangles().size());
+  for (auto v : scene->Triangles()) EXPECT_LT(v, scene->Vertices_m().cols());
+}
+
+TEST(AcupunctureCatalogue, BadParametersAreRejectedByName) {
+  EXPECT_THROW(MakeScene({"acupuncture", {{"no_such_key", 1}}}), std::invalid_argument);
+  try {
+    MakeScene({"acupuncture", {{"skin_rings", 1.5}}});
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("skin_rings"), std::string::npos);
+  }
+  EXPECT_THROW(MakeScene({"acupuncture", {{"springback_eta0", 1.5}}}), std::invalid_argument);
+}
+
+TEST_F(AcupunctureSceneTest, SkinTopIsAtTheOriginWithNormalUp) {
+  Eigen::VectorXd depth(4);
+  scene_.Body().Depths_m(Eigen::Vector3d::Zero(), depth);
+  EXPECT_NEAR(depth[0], 0.0, 1e-15);
+  EXPECT_NEAR(depth[1], -0.8e-3, 1e-9);   // fat top 0.8 mm below
+  EXPECT_NEAR(depth[2], -9.2e-3, 1e-9);   // muscle top 9.2 mm
+  EXPECT_NEAR(depth[3], -48.2e-3, 1e-9);  // muscle bottom 48.2 mm
+  // Normal up to the fit's slope error (Fibonacci samples are not mirror
+  // symmetric): within 1.5 mrad.
+  EXPECT_NEAR(scene_.Body().OutwardNormal_W(0, Eigen::Vector3d::UnitZ()).z(), 1.0, 1e-6);
+}
+
+TEST_F(AcupunctureSceneTest, ThreePuncturesSkinFatMuscleAtTopPlusCriticalDeflection) {
+  const Trace tr = Insert(scene_, 20e-3);
+  ASSERT_EQ(tr.punctures.size(), 3u);
+  double top_m = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(tr.punctures[i].layer, i);
+    // Reference: layer top (Table 2 cumulative thickness) + Z1* = ζ/g_w of
+    // the solved net; the tip moves 5 µm per tick, so it lands within one.
+    const double expected_m = top_m + scene_.Net(i).critical_deflection_m;
+    EXPECT_GE(tr.depth_m[tr.puncture_tick[i]], expected_m - 1e-9);
+    EXPECT_LE(tr.depth_m[tr.puncture_tick[i]], expected_m + 5e-6 + 1e-9);
+    top_m += scene_.Params().layers[i].thickness_m;
+  }
+}
+
+TEST_F(AcupunctureSceneTest, ForceRisesMonotonicallyBeforeEachPunctureAndDropsAtIt) {
+  const Trace tr = Insert(scene_, 20e-3);
+  ASSERT_EQ(tr.punctures.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t p = tr.puncture_tick[i];
+    // Walk back over the pressing phase (same layer, force > the floor).
+    std::size_t b = p - 1;
+    while (b > 0 && tr.layer[b - 1] == i && tr.force_N[b - 1] < tr.force_N[b]) --b;
+    EXPECT_GE(p - b, 3u) << "layer " << i;
+    for (std::size_t k = b + 1; k < p; ++k) EXPECT_GT(tr.force_N[k], tr.force_N[k - 1]) << "layer " << i;
+    EXPECT_LT(tr.force_N[p], 0.2 * tr.force_N[p - 1]) << "layer " << i;
+  }
+}
+
+TEST_F(AcupunctureSceneTest, SkinPeakPunctureForceIsWithinMeasuredRange) {
+  const Trace tr = Insert(scene_, 1e-3);
+  ASSERT_GE(tr.punctures.size(), 1u);
+  const double peak_N = tr.force_N[tr.puncture_tick[0] - 1];
+  EXPECT_GT(peak_N, 0.1);  // van Gerwen 2012: 0.1–2 N, median 1.22 N
+  EXPECT_LT(peak_N, 2.0);
+}
+
+TEST_F(AcupunctureSceneTest, InsideFatTheForceIsTableOneDamping) {
+  // Tip 5 mm into the fat, moving at v: F = (d_s h_s + d_f h) v.
+  Insert(scene_, 5.8e-3);
+  const auto& L = scene_.Params().layers;
+  const double depth_m = scene_.Status().tip_depth_m;
+  const double b = L[0].damping_Ns_per_m2 * L[0].thickness_m + L[1].damping_Ns_per_m2 * (depth_m - L[0].thickness_m);
+  EXPECT_EQ(scene_.Status().current_layer, 1);
+  EXPECT_NEAR(scene_.ToolForce_W_N().z(), b * kSpeed_m_per_s, 1e-12);
+}
+
+TEST_F(AcupunctureSceneTest, WithdrawalGivesShaftFrictionOnly) {
+  Insert(scene_, 15e-3);
+  const auto& L = scene_.Params().layers;
+  for (double z = -15e-3; z < 1e-3; z += kSpeed_m_per_s * kTick_s) {
+    scene_.Step(VerticalTool(z, kSpeed_m_per_s), kTick_s);
+    const double d = scene_.Status().tip_depth_m;
+    double b = 0.0, top = 0.0;
+    for (const auto& l : L) {
+      b += l.damping_Ns_per_m2 * std::clamp(d - top, 0.0, l.thickness_m);
+      top += l.thickness_m;
+    }
+    ASSERT_NEAR(scene_.ToolForce_W_N().z(), -b * kSpeed_m_per_s, 1e-12) << "z " << z;
+    ASSERT_NE(scene_.ForceModel().state, ContactState::kContact);  // no surface force on the way out
+  }
+  EXPECT_EQ(scene_.ForceModel().state, ContactState::kFree);
+  EXPECT_EQ(scene_.Status().current_layer, -1);
+}
+
+TEST_F(AcupunctureSceneTest, SpringbackEndsAboveTheTipReferenceLineWithEtaInUnitInterval) {
+  Insert(scene_, 0.5e-3);  // just through the skin
+  ASSERT_TRUE(scene_.PuncturePointOffset_m(0).has_value());
+  for (int k = 0; k < 200; ++k) {
+    scene_.Step(VerticalTool(-0.5e-3, 0.0), kTick_s);
+    const Eigen::VectorXd& eta = scene_.SpringbackEta(0);
+    ASSERT_GE(eta.minCoeff(), 0.0);
+    ASSERT_LE(eta.maxCoeff(), 1.0);
+  }
+  EXPECT_EQ(scene_.SpringbackEta(0).maxCoeff(), 0.0);
+  // Shape matching keeps the centroid: the puncture point ends at the mean
+  // deflection of the net, which lies above the tip (its deepest point).
+  const ForceNetModel& net = scene_.Net(0);
+  const double n1_deflection_m = scene_.NetState(0).rest_W_m.col(0).z() - scene_.NetState(0).x_W_m.col(0).z();
+  EXPECT_GT(*scene_.PuncturePointOffset_m(0), 0.0);
+  // Final deflection of N1 = mean deflection at puncture = (Σ g / n) · Z1,
+  // with Z1 at puncture = final deflection + offset.
+  const double z1_at_puncture_m = *scene_.PuncturePointOffset_m(0) + n1_deflection_m;
+  EXPECT_NEAR(n1_deflection_m, net.influence_sum / net.topology.NumNodes() * z1_at_puncture_m, 1e-9);
+}
+
+TEST_F(AcupunctureSceneTest, LocalForceModelReproducesPhysicsForceAtCurrentTip) {
+  // Oblique, moving tool through every phase: the bridge's law evaluated at
+  // the tick's own pose must give the physics force.
+  const double step_m = kSpeed_m_per_s * kTick_s;
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.15, -0.1, -1).normalized();
+  ToolInput t;
+  t.valid = true;
+  t.orientation_W = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d(0, 0, -1), dir);
+  int phases_seen[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 3000; ++k) {
+    const double s = k < 2000 ? k * step_m : (4000 - k) * step_m;
+    t.tip_W_m = Eigen::Vector3d(0, 0, 1e-3) + (s - 1e-3) * dir + Eigen::Vector3d(0.2e-3 * std::sin(k * 0.01), 0, 0);
+    t.velocity_W_m_per_s = (k < 2000 ? 1.0 : -1.0) * kSpeed_m_per_s * dir;
+    scene_.Step(t, kTick_s);
+    const LocalForceModel m = scene_.ForceModel();
+    ++phases_seen[static_cast<int>(m.state)];
+    const Eigen::Vector3d f = EvaluateLocalForce(m, t.tip_W_m, t.velocity_W_m_per_s);
+    ASSERT_LT((f - scene_.ToolForce_W_N()).norm(), 1e-9 + 1e-9 * f.norm()) << "tick " << k << " " << ToString(m.state);
+  }
+  EXPECT_GT(phases_seen[static_cast<int>(ContactState::kContact)], 0);
+  EXPECT_GT(phases_seen[static_cast<int>(ContactState::kPunctured)], 0);
+}
+
+TEST_F(AcupunctureSceneTest, ContactModelIsStiffButCappedForTheDevice) {
+  for (double z = 1e-3; scene_.ForceModel().state != ContactState::kContact; z -= 5e-6)
+    scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
+  const LocalForceModel m = scene_.ForceModel();
+  EXPECT_NEAR(m.normal_W.z(), 1.0, 1e-6);
+  EXPECT_DOUBLE_EQ(m.stiffness_N_per_m,
+                   std::min(scene_.Params().render_stiffness_max_N_per_m,
+                            scene_.Net(0).def.virtual_K_N_per_m * scene_.Net(0).influence_sum));
+}
+
+TEST_F(AcupunctureSceneTest, DisplayedSkinFollowsTheNetAndRecoversOnLiftOff) {
+  const Eigen::Matrix3Xd rest = scene_.Vertices_m();
+  for (double z = 1e-3; z > -0.08e-3; z -= 5e-6) scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
+  ASSERT_TRUE(scene_.Pressing());
+  // The lowest skin vertex sits near the site, pushed in by about Z_1.
+  double lowest_shift = 0.0;
+  for (Eigen::Index i = 0; i < rest.cols() - 13; ++i)
+    lowest_shift = std::max(lowest_shift, rest(2, i) - scene_.Vertices_m()(2, i));
+  EXPECT_GT(lowest_shift, 0.5 * scene_.NetState(0).ring_Z_m[0]);
+  EXPECT_LE(lowest_shift, scene_.NetState(0).ring_Z_m[0] + 1e-12);
+  for (double z = -0.08e-3; z < 1e-3; z += 5e-6) scene_.Step(VerticalTool(z, kSpeed_m_per_s), kTick_s);
+  EXPECT_FALSE(scene_.Pressing());
+  EXPECT_LT((scene_.Vertices_m().leftCols(rest.cols() - 13) - rest.leftCols(rest.cols() - 13)).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+TEST_F(AcupunctureSceneTest, StepAndResetNeverAllocate) {
+  Insert(scene_, 0.2e-3);  // warm up every code path once
+  scene_.Reset();
+  test::ScopedAllocationCount allocations;
+  for (double z = 1e-3; z > -12e-3; z -= 5e-6) {
+    scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
+    (void)scene_.ForceModel();
+  }
+  for (double z = -12e-3; z < 1e-3; z += 2e-5) scene_.Step(VerticalTool(z, kSpeed_m_per_s), kTick_s);
+  scene_.Step(ToolInput{}, kTick_s);
+  scene_.Reset();
+  EXPECT_EQ(allocations.Count(), 0u);
+}
+
+TEST_F(AcupunctureSceneTest, SameInputsGiveBitIdenticalOutputs) {
+  AcupunctureScene other{AcupunctureParams{}};
+  for (double z = 1e-3; z > -10e-3; z -= 7e-6) {
+    scene_.Step(VerticalTool(z, -7.0 * kSpeed_m_per_s / 5.0), kTick_s);
+    other.Step(VerticalTool(z, -7.0 * kSpeed_m_per_s / 5.0), kTick_s);
+    ASSERT_EQ(scene_.ToolForce_W_N(), other.ToolForce_W_N());
+  }
+  EXPECT_TRUE((scene_.Vertices_m().array() == other.Vertices_m().array()).all());
+  EXPECT_EQ(scene_.EventsTotal(), other.EventsTotal());
+}
+
+TEST_F(AcupunctureSceneTest, NonFiniteOrMissingToolIsTreatedAsAbsentNotAsACrash) {
+  Insert(scene_, 3e-3);
+  ToolInput bad = VerticalTool(std::nan(""), 0.0);
+  scene_.Step(bad, kTick_s);
+  EXPECT_EQ(scene_.ForceModel().state, ContactState::kFree);
+  EXPECT_TRUE(scene_.ToolForce_W_N().isZero());
+  bad = VerticalTool(-1e-3, std::numeric_limits<double>::infinity());
+  scene_.Step(bad, kTick_s);
+  EXPECT_TRUE(scene_.ToolForce_W_N().allFinite());
+  EXPECT_EQ(scene_.Status().numerical_resets, 0u);
+  scene_.Step(ToolInput{}, std::nan(""));
+  EXPECT_TRUE(std::isfinite(scene_.SimTime_s()));
+}
+
+TEST_F(AcupunctureSceneTest, ResetLogsAnEventAndReturnsToFree) {
+  Insert(scene_, 3e-3);
+  const auto before = scene_.EventsTotal();
+  scene_.Reset();
+  EXPECT_EQ(scene_.EventsTotal(), before + 1);
+  EXPECT_EQ(scene_.Events().back().kind, SceneEventKind::kReset);
+  EXPECT_EQ(scene_.ForceModel().state, ContactState::kFree);
+  EXPECT_EQ(scene_.SimTime_s(), 0.0);
+  EXPECT_EQ(scene_.PuncturedLayers(), 0);
+}
+
+}  // namespace
+}  // namespace hapsim::core
