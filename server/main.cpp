@@ -56,7 +56,7 @@ void PrintSummary(hapsim::service::ServerApp& app) {
 
 int main(int argc, char** argv) {
   hapsim::service::ServerOptions options;
-  std::string log_level = "info", sessions, dds_config;
+  std::string log_level = "info", sessions, dds_config, port_file;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0;
   int dds_domain = 0, max_sessions = 64;
   hapsim::runtime::Flags flags(
@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
       "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
       "over gRPC (SessionService, ViewerService, health checking).");
   flags.Add("listen", &options.listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
+  flags.Add("port-file", &port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
   flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
   flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
   flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");
@@ -105,6 +106,14 @@ int main(int argc, char** argv) {
   try {
     hapsim::service::ServerApp app(options);
     if (!CreateStartupSessions(app.registry(), sessions)) return 2;
+    if (!port_file.empty()) {
+      // Written after the sessions exist, so a script that sees the file can use them.
+      std::FILE* f = std::fopen(port_file.c_str(), "w");
+      if (!f || std::fprintf(f, "%d\n", app.bound_port()) < 0 || std::fclose(f) != 0) {
+        std::fprintf(stderr, "hapsim-server: cannot write --port-file %s\n", port_file.c_str());
+        return 1;
+      }
+    }
     asio::io_context io;
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const std::error_code&, int signal) {

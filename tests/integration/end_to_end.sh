@@ -18,15 +18,12 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
-"$bin/hapsim-server" --listen 127.0.0.1:0 --sessions "$session" --dds-domain "$domain" >server.out 2>server.log &
+"$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --sessions "$session" --dds-domain "$domain" \
+    >server.out 2>server.log &
 server=$!; pids+=("$server")
-port=""
-for _ in $(seq 1 100); do
-  port=$(sed -n 's/.*listening on .*(port \([0-9]*\)).*/\1/p' server.log | head -n1)
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-[ -n "$port" ] || { echo "server did not start"; cat server.log; exit 1; }
+for _ in $(seq 1 100); do [ -s port ] && break; sleep 0.1; done
+[ -s port ] || { echo "server did not start"; cat server.log; exit 1; }
+port=$(cat port)
 addr=127.0.0.1:$port
 
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \
