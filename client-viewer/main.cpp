@@ -78,6 +78,11 @@ int main(int argc, char** argv) {
   std::printf("viewer: last seq %llu, sim time %.3f s, vertices %zu, triangles %zu, peak tool force %.3f N, events:%s\n",
               static_cast<unsigned long long>(mesh.last_seq()), s.last_sim_time_s, mesh.vertex_count(),
               mesh.triangles().size() / 3, s.peak_tool_force_N, events.empty() ? " none" : events.c_str());
+  if (!s.punctures.empty()) {
+    std::string list;
+    for (const auto& p : s.punctures) list += " " + p;
+    std::printf("viewer: punctures (layer@tip depth below z=0):%s\n", list.c_str());
+  }
   std::fflush(stdout);
   if (!obj_path.empty() && mesh.has_mesh()) {
     const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +

@@ -28,7 +28,7 @@ addr=127.0.0.1:$(cat "$out/port")
     >"$out/viewer.out" 2>"$out/viewer.log" &
 viewer=$!; pids+=("$viewer")
 script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10 --hold-s 0.5)
-[ "$scene" = acupuncture ] && script_args=(--script constant_speed --start-height-mm 2 --depth-mm 52 --speed-mm-s 20 --keep-running)
+[ "$scene" = acupuncture ] && script_args=(--script constant_speed --start-height-mm 2 --depth-mm 30 --speed-mm-s 20 --keep-running)
 "$bin/hapsim-bridge" --session demo "${script_args[@]}" --seconds "$seconds" --trace "$out/trace.csv" \
     >"$out/bridge.out" 2>"$out/bridge.log" &
 bridge=$!; pids+=("$bridge")

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include <spdlog/spdlog.h>
 
@@ -58,7 +59,22 @@ bool ViewerClient::Run() {
       ++stats_.frames;
       stats_.bytes += frame.ByteSizeLong();
       if (frame.has_keyframe()) ++stats_.keyframes; else ++stats_.deltas;
-      for (const auto& e : frame.events()) ++stats_.events[e.kind()];
+      for (const auto& e : frame.events()) {
+        ++stats_.events[e.kind()];
+        if (e.kind() == "puncture") {
+          // Layer names come with the keyframe, which precedes any event.
+          const auto& names = frame.has_keyframe() ? std::vector<std::string>(frame.keyframe().layer_names().begin(),
+                                                                              frame.keyframe().layer_names().end())
+                                                   : cache_.layer_names();
+          const bool known = e.layer() >= 0 && static_cast<std::size_t>(e.layer()) < names.size();
+          char depth[32];
+          // The event's own position: the tip at the puncture instant, below
+          // the top surface at z = 0.
+          const double z_m = e.where_m_size() == 3 ? e.where_m(2) : 0.0;
+          std::snprintf(depth, sizeof depth, "@%.2fmm", -z_m * 1e3);
+          stats_.punctures.push_back((known ? names[static_cast<std::size_t>(e.layer())] : "layer" + std::to_string(e.layer())) + depth);
+        }
+      }
       stats_.last_sim_time_s = frame.sim_time_s();
       if (frame.tool().force_n_size() == 3) {
         const double f = std::sqrt(frame.tool().force_n(0) * frame.tool().force_n(0) +

@@ -12,19 +12,9 @@ bin=${1:?usage: end_to_end.sh BIN_DIR WORK_DIR}
 work=${2:?usage: end_to_end.sh BIN_DIR WORK_DIR}
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-domain=$((150 + RANDOM % 60))   # test-only DDS domain
 session=e2e
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
-trap cleanup EXIT
-
-"$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --sessions "$session" --dds-domain "$domain" \
-    >server.out 2>server.log &
-server=$!; pids+=("$server")
-for _ in $(seq 1 100); do [ -s port ] && break; sleep 0.1; done
-[ -s port ] || { echo "server did not start"; cat server.log; exit 1; }
-port=$(cat port)
-addr=127.0.0.1:$port
+source "$here/lib.sh"
+start_server "$session"
 
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \
     --debug-drop-seq 20 --name e2e-viewer >viewer.out 2>viewer.log &

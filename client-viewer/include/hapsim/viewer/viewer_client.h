@@ -8,6 +8,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <grpcpp/grpcpp.h>
 
@@ -35,6 +36,8 @@ struct ViewerStats {
   double peak_tool_force_N = 0.0;
   std::string last_contact_state;
   std::map<std::string, std::uint64_t> events;  // kind -> count
+  // Punctures in order, as "layer@depth_mm" (layer name from the keyframe).
+  std::vector<std::string> punctures;
   std::string final_status;                     // how the last stream ended
 };
 

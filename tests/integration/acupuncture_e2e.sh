@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Acupuncture end to end: an `acupuncture` session driven by the synthetic
+# bridge's constant-speed insertion through skin, fat and muscle and out
+# again, watched by a headless viewer. check_acupuncture_e2e.py checks that
+# the three punctures appear in order in the viewer's frames and as force
+# drops at the same depths in the bridge's force trace.
+set -euo pipefail
+bin=${1:?usage: acupuncture_e2e.sh BIN_DIR WORK_DIR}
+work=${2:?usage: acupuncture_e2e.sh BIN_DIR WORK_DIR}
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+session=acu
+source "$here/lib.sh"
+start_server "$session:acupuncture"
+
+"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj >viewer.out 2>viewer.log &
+viewer=$!; pids+=("$viewer")
+sleep 0.3
+# 2 mm above the skin, 20 mm/s down to 30 mm (through skin 0.8 mm and fat
+# 8.4 mm into muscle) and back out: 3.2 s. The script ends by itself.
+"$bin/hapsim-bridge" --session "$session" --dds-domain "$domain" --script constant_speed \
+    --start-height-mm 2 --depth-mm 30 --speed-mm-s 20 --trace trace.csv >bridge.out 2>bridge.log &
+bridge=$!; pids+=("$bridge")
+wait "$bridge" && bridge_rc=0 || bridge_rc=$?
+sleep 0.5
+kill -TERM "$viewer"
+wait "$viewer" && viewer_rc=0 || viewer_rc=$?
+kill -TERM "$server"
+wait "$server" && server_rc=0 || server_rc=$?
+pids=()
+echo "exit codes: server $server_rc, bridge $bridge_rc, viewer $viewer_rc"
+cat bridge.out viewer.out server.out
+[ "$server_rc" -eq 0 ] && [ "$bridge_rc" -eq 0 ] && [ "$viewer_rc" -eq 0 ]
+/usr/bin/python3 "$here/check_acupuncture_e2e.py" "$work"

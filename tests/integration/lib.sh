@@ -1,0 +1,18 @@
+# Shared by the end-to-end scripts: start a server on a free loopback port
+# and a test-only DDS domain; kill leftovers on exit. Source, then:
+#   start_server SESSIONS [more server flags]   -> sets $addr, $server, $domain
+domain=$((150 + RANDOM % 60))
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+
+start_server() {
+  local sessions=$1; shift
+  rm -f port
+  "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --sessions "$sessions" --dds-domain "$domain" "$@" \
+      >server.out 2>server.log &
+  server=$!; pids+=("$server")
+  for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
+  [ -s port ] || { echo "server did not start"; cat server.log; exit 1; }
+  addr=127.0.0.1:$(cat port)
+}
