@@ -169,5 +169,83 @@ TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
   EXPECT_TRUE(Create("after").ok());
 }
 
+TEST_F(ServerAppTest, ScoresAreCheckedAndCombinedOverTheClass) {
+  ASSERT_TRUE(Create("ta").ok());
+  ASSERT_TRUE(Create("tb").ok());
+  auto submit = [&](const std::string& id, std::vector<double> x, hapsim::v1::ScoreReport* report) {
+    grpc::ClientContext ctx;
+    hapsim::v1::SubmitScoresRequest req;
+    req.set_session_id(id);
+    req.set_expert("dr-x");
+    for (double v : x) req.add_indicators(v);
+    return sessions_->SubmitScores(&ctx, req, report);
+  };
+  hapsim::v1::ScoreReport report;
+  EXPECT_EQ(submit("ta", {1, 2, 3}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(submit("ta", {8, 6, 7, 9, 5, 8, 11}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(submit("ghost", {8, 6, 7, 9, 5, 8, 7}, &report).error_code(), grpc::StatusCode::NOT_FOUND);
+  ASSERT_TRUE(submit("ta", {8, 6, 7, 9, 5, 8, 7}, &report).ok());
+  ASSERT_TRUE(submit("tb", {6, 6, 9, 9, 7, 8, 5}, &report).ok());
+  // The class of two: same numbers as the hand-computed core example
+  // (ComprehensiveScore.MatchesHandComputedTwoTraineeExample).
+  grpc::ClientContext ctx;
+  hapsim::v1::ScoreQuery all;
+  ASSERT_TRUE(sessions_->GetScores(&ctx, all, &report).ok());
+  ASSERT_EQ(report.sessions_size(), 2);
+  EXPECT_NEAR(report.sessions(0).comprehensive_score(), 6.758, 1e-9);
+  EXPECT_NEAR(report.sessions(1).comprehensive_score(), 6.822, 1e-9);
+  EXPECT_NEAR(report.class_mean_score(), 6.790, 1e-9);
+  EXPECT_NEAR(report.mu(), 0.4, 1e-15);
+  ASSERT_EQ(report.combined_weights_size(), 7);
+  EXPECT_NEAR(report.combined_weights(0), 0.218, 1e-12);
+}
+
+TEST_F(ServerAppTest, PauseFreezesSimTimeAndResumeAndResetWork) {
+  ASSERT_TRUE(Create("p").ok());
+  std::this_thread::sleep_for(50ms);
+  grpc::ClientContext c1;
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("p");
+  hapsim::v1::SessionInfo info;
+  ASSERT_TRUE(sessions_->PauseSession(&c1, ref, &info).ok());
+  std::this_thread::sleep_for(30ms);  // let the tick see the request
+  const double frozen = Info("p").sim_time_s();
+  std::this_thread::sleep_for(100ms);
+  EXPECT_TRUE(Info("p").paused());
+  EXPECT_EQ(Info("p").sim_time_s(), frozen);
+  grpc::ClientContext c2;
+  ASSERT_TRUE(sessions_->ResumeSession(&c2, ref, &info).ok());
+  std::this_thread::sleep_for(100ms);
+  EXPECT_GT(Info("p").sim_time_s(), frozen);
+  grpc::ClientContext c3;
+  ASSERT_TRUE(sessions_->ResetSession(&c3, ref, &info).ok());
+  std::this_thread::sleep_for(50ms);
+  EXPECT_LT(Info("p").sim_time_s(), frozen + 0.1);  // sim time restarted from zero
+}
+
+TEST_F(ServerAppTest, SnapshotAndSceneListAnswer) {
+  ASSERT_TRUE(Create("snap").ok());
+  grpc::ClientContext c1;
+  hapsim::v1::ListScenesResponse scenes;
+  ASSERT_TRUE(sessions_->ListScenes(&c1, {}, &scenes).ok());
+  bool has_block = false;
+  for (const auto& sc : scenes.scenes()) has_block |= sc.name() == "tissue_block";
+  EXPECT_TRUE(has_block);
+  hapsim::v1::MeshSnapshot snap;
+  grpc::Status s;
+  for (int i = 0; i < 50; ++i) {  // the frame pump publishes the first snapshot within a few ms
+    grpc::ClientContext c2;
+    hapsim::v1::SessionRef ref;
+    ref.set_session_id("snap");
+    s = sessions_->GetSnapshot(&c2, ref, &snap);
+    if (s.ok()) break;
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  EXPECT_GT(snap.positions_m_size(), 0);
+  EXPECT_EQ(snap.positions_m_size() % 3, 0);
+  EXPECT_EQ(snap.triangles_size() % 3, 0);
+}
+
 }  // namespace
 }  // namespace hapsim::service
