@@ -117,11 +117,7 @@ int main(int argc, char** argv) {
       if (replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
       device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(replay_file));
     } else {
-      throw std::invalid_argument("unknown backend '" + backend + "' (synthetic or replay" +
-#ifdef HAPSIM_HAVE_OPENHAPTICS
-                                  std::string(", openhaptics") +
-#endif
-                                  ")");
+      throw std::invalid_argument("unknown backend '" + backend + "' (synthetic or replay)");
     }
 
     hapsim::bridge::BridgeDds dds({static_cast<std::uint32_t>(dds_domain), dds_config},
