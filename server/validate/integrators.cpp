@@ -44,9 +44,15 @@ void WriteRow(std::ostream& csv, const CsvRow& r) {
   csv << line;
 }
 
-std::string Fmt(double v, const char* f = "%.3e") {
+// Scientific with `digits` decimals, or fixed with `decimals`.
+std::string Sci(double v, int digits = 3) {
   char b[64];
-  std::snprintf(b, sizeof b, f, v);
+  std::snprintf(b, sizeof b, "%.*e", digits, v);
+  return b;
+}
+std::string Fixed(double v, int decimals) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
   return b;
 }
 
@@ -105,10 +111,10 @@ void RunOde(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, boo
       WriteRow(csv, {"ode", name, alpha, LinearOde::kH, x, y[k], LinearOde::Exact(x)});
       max_error = std::max(max_error, std::abs(y[k] - LinearOde::Exact(x)));
     }
-    md << "| " << name << " | " << (std::isnan(alpha) ? "" : Fmt(alpha, "%.3f")) << " | " << Fmt(y.back(), "%.8f")
-       << " | " << Fmt(LinearOde::Exact(1.0), "%.8f") << " | " << Fmt(std::abs(y.back() - LinearOde::Exact(1.0)))
-       << " | " << Fmt(max_error) << " |\n";
-    solutions[name + (std::isnan(alpha) ? "" : Fmt(alpha, "%.3f"))] = y;
+    md << "| " << name << " | " << (std::isnan(alpha) ? "" : Fixed(alpha, 3)) << " | " << Fixed(y.back(), 8)
+       << " | " << Fixed(LinearOde::Exact(1.0), 8) << " | " << Sci(std::abs(y.back() - LinearOde::Exact(1.0)))
+       << " | " << Sci(max_error) << " |\n";
+    solutions[name + (std::isnan(alpha) ? "" : Fixed(alpha, 3))] = y;
   };
   for (const OdeMethod& m : methods) emit(m.name, m.alpha, SolveOde(m));
   emit("backward_euler", nan, SolveOdeBackwardEuler());
@@ -121,10 +127,10 @@ void RunOde(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, boo
     improved_vs_explicit = std::max(improved_vs_explicit, std::abs(solutions["improved_euler"][k] - solutions["explicit_euler"][k]));
   }
   md << "\nOn this first-order ODE the schemes act on y as they act on v (there is no position):\n"
-     << "- improved Euler (v explicit, x trapezoid) = explicit Euler: max abs difference = " << Fmt(improved_vs_explicit) << ";\n"
+     << "- improved Euler (v explicit, x trapezoid) = explicit Euler: max abs difference = " << Sci(improved_vs_explicit) << ";\n"
      << "- midpoint-averaging alpha = 1/2 = explicit midpoint rule, which equals Heun's method (the textbook\n"
-     << "  \"improved Euler\") because f is linear in y and in x: max abs difference = " << Fmt(mid_vs_heun) << ";\n"
-     << "- so alpha = 1/2 does **not** equal the paper's improved Euler: max abs difference = " << Fmt(mid_vs_improved) << ".\n\n";
+     << "  \"improved Euler\") because f is linear in y and in x: max abs difference = " << Sci(mid_vs_heun) << ";\n"
+     << "- so alpha = 1/2 does **not** equal the paper's improved Euler: max abs difference = " << Sci(mid_vs_improved) << ".\n\n";
   const bool heun_equal = mid_vs_heun < 1e-13;
   if (!heun_equal || improved_vs_explicit != 0.0) ok = false;
   claims.push_back({"alpha = 1/2 equals Heun's method (textbook improved Euler) on the linear test ODE", heun_equal, true});
@@ -216,7 +222,9 @@ double ObservedOrder(const ParticleMethod& m) {
 }
 
 std::string Label(const ParticleMethod& m) {
-  return std::string(core::ToString(m.choice.kind)) + (m.has_alpha ? " " + Fmt(m.choice.alpha, "%.3f") : "");
+  std::string label = core::ToString(m.choice.kind);
+  if (m.has_alpha) label.append(" ").append(Fixed(m.choice.alpha, 3));
+  return label;
 }
 
 void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, bool& ok) {
@@ -225,16 +233,16 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
   md << "## Problem `particle`: m x'' = -k x - c x', m = " << p.m_kg << " kg, k = " << p.k_N_per_m
      << " N/m, c = " << p.c_Ns_per_m << " N s/m (w0 = 2 rad/s, damping ratio 0.1), x(0) = 1 m, v(0) = 0, t in [0, 10] s\n\n"
      << "Reference: RK4 at h = 1e-4 (the paper's); its max deviation from the closed form is "
-     << Fmt(ref.max_error_vs_closed_form) << ". Errors are max abs(value - reference) over all steps.\n\n"
+     << Sci(ref.max_error_vs_closed_form) << ". Errors are max abs(value - reference) over all steps.\n\n"
      << "| method | alpha | h = 0.02: max abs err x | v | h = 0.1: x | v | h = 0.4: x | v |\n|---|---|---|---|---|---|---|---|\n";
   if (!(ref.max_error_vs_closed_form < 1e-10)) ok = false;
   std::map<std::string, std::map<double, Errors>> errors;
   for (const ParticleMethod& m : kParticleMethods) {
-    md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fmt(m.choice.alpha, "%.3f") : "");
+    md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fixed(m.choice.alpha, 3) : "");
     for (const double h : DampedParticle::kSteps_s) {
       const Errors e = RunParticle(m, h, ref, &csv);
       errors[Label(m)][h] = e;
-      md << " | " << Fmt(e.x) << " | " << Fmt(e.v);
+      md << " | " << Sci(e.x) << " | " << Sci(e.v);
     }
     md << " |\n";
   }
@@ -246,8 +254,8 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
                                                                                                             : 1.0;
     const double order = ObservedOrder(m);
     if (std::abs(order - theory) > 0.15) ok = false;
-    md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fmt(m.choice.alpha, "%.3f") : "") << " | "
-       << Fmt(order, "%.3f") << " | " << theory << " |\n";
+    md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fixed(m.choice.alpha, 3) : "") << " | "
+       << Fixed(order, 3) << " | " << theory << " |\n";
   }
 
   // Stability intervals of the alpha family on this particle's mode.
@@ -263,11 +271,11 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
     std::string undamped;
     for (const double h : {0.01, 0.1, 0.4}) {
       const double r = core::AmplificationRadius(c, w2, 0.0, h);
-      undamped += Fmt(r, "%.10f") + (r > 1.0 ? " (grows)" : "") + (h < 0.4 ? ", " : "");
+      undamped += Fixed(r, 10) + (r > 1.0 ? " (grows)" : "") + (h < 0.4 ? ", " : "");
       if (alpha == 0.375) undamped_38_grows = undamped_38_grows && r > 1.0;
     }
-    md << "| " << Fmt(alpha, "%.3f") << " | " << Fmt(h_stable[alpha], "%.4f") << " s | " << undamped
-       << " | " << Fmt(radius[alpha], "%.5f") << " | " << Fmt(std::exp(-0.5 * g * 0.4), "%.5f") << " |\n";
+    md << "| " << Fixed(alpha, 3) << " | " << Fixed(h_stable[alpha], 4) << " s | " << undamped
+       << " | " << Fixed(radius[alpha], 5) << " | " << Fixed(std::exp(-0.5 * g * 0.4), 5) << " |\n";
   }
 
   // The paper's claims on the particle.
@@ -284,7 +292,9 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
   auto best_alpha = [&](double h) {
     double best = 0.5;
     for (const double a : {0.375, 0.625})
-      if (errors["midpoint_averaging " + Fmt(a, "%.3f")][h].v < errors["midpoint_averaging " + Fmt(best, "%.3f")][h].v) best = a;
+      if (errors[Label({{IntegratorKind::kMidpointAveraging, a}, true})][h].v <
+          errors[Label({{IntegratorKind::kMidpointAveraging, best}, true})][h].v)
+        best = a;
     return best;
   };
   claims.push_back({"Fig. 5a: alpha = 1/2 gives the best velocity at h = 0.1", best_alpha(0.1) == 0.5, true});
@@ -298,7 +308,7 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
       if (e < best_e) best_e = e, best = a;
     }
     claims.push_back({"alpha = 3/8 is best at h = 0.4 in general (checked on w0 = 1 rad/s, damping ratio 0.1: alpha = " +
-                          Fmt(best, "%.3f") + " wins)",
+                          Fixed(best, 3) + " wins)",
                       best == 0.375, false});
   }
   const double decay = std::exp(-0.5 * g * 0.4);
@@ -311,8 +321,8 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
   claims.push_back({"alpha = 3/8 is stable without damping (it anti-damps: spectral radius > 1 at h = 0.01, 0.1, 0.4)",
                     !undamped_38_grows, false});
   claims.push_back({"Fig. 8c: midpoint-averaging (alpha = 1/2) nearly coincides with the reference at h = 0.02 and 0.1 "
-                    "(max abs x error < 2 % of the 1 m amplitude: " + Fmt(err("midpoint_averaging 0.500", 0.02).x) + ", " +
-                        Fmt(err("midpoint_averaging 0.500", 0.1).x) + " m)",
+                    "(max abs x error < 2 % of the 1 m amplitude: " + Sci(err("midpoint_averaging 0.500", 0.02).x) + ", " +
+                        Sci(err("midpoint_averaging 0.500", 0.1).x) + " m)",
                     err("midpoint_averaging 0.500", 0.02).x < 0.02 && err("midpoint_averaging 0.500", 0.1).x < 0.02, true});
   bool all_second_order = true;
   for (const double a : {0.5, 0.375, 0.625})

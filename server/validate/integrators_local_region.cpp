@@ -49,9 +49,15 @@ Run Press(const core::MsmModel& model, const core::LocalRegion* region, std::int
   return best;
 }
 
-std::string Fmt(double v, const char* f) {
+// Scientific with `digits` decimals, or fixed with `decimals`.
+std::string Sci(double v, int digits = 3) {
   char b[64];
-  std::snprintf(b, sizeof b, f, v);
+  std::snprintf(b, sizeof b, "%.*e", digits, v);
+  return b;
+}
+std::string Fixed(double v, int decimals) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
   return b;
 }
 
@@ -71,7 +77,7 @@ bool RunLocalRegionValidation(std::ostream& csv, std::ostream& md) {
      << " springs, 3 mm spacing), " << kPress_N << " N on the centre node, " << kSteps << " symplectic Euler steps of "
      << kDt_s * 1e3 << " ms. Region = free nodes within `hops` spring hops of the centre; the rest frozen. "
      << "Time = best of 5 runs, this machine, single thread (indicative). Full update: "
-     << Fmt(full.seconds_per_step * 1e6, "%.1f") << " us/step; centre deflection " << Fmt(full_centre_z * 1e3, "%.4f") << " mm.\n\n"
+     << Fixed(full.seconds_per_step * 1e6, 1) << " us/step; centre deflection " << Fixed(full_centre_z * 1e3, 4) << " mm.\n\n"
      << "| hops | active nodes | springs | us/step | speed-up | max node error [mm] | centre error [mm] |\n|---|---|---|---|---|---|---|\n";
   bool ok = true;
   core::LocalRegion region = core::MakeLocalRegion(model);
@@ -90,9 +96,9 @@ bool RunLocalRegionValidation(std::ostream& csv, std::ostream& md) {
                   kSteps * kDt_s, centre_z, full_centre_z, std::abs(centre_z - full_centre_z));
     csv << line;
     md << "| " << (hops < 0 ? std::string("all") : std::to_string(hops)) << " | " << region.active_nodes.size() << " | "
-       << region.springs.size() << " | " << Fmt(local.seconds_per_step * 1e6, "%.1f") << " | "
-       << Fmt(full.seconds_per_step / local.seconds_per_step, "%.1f") << "x | " << Fmt(max_error_m * 1e3, "%.2e") << " | "
-       << Fmt(std::abs(centre_z - full_centre_z) * 1e3, "%.2e") << " |\n";
+       << region.springs.size() << " | " << Fixed(local.seconds_per_step * 1e6, 1) << " | "
+       << Fixed(full.seconds_per_step / local.seconds_per_step, 1) << "x | " << Sci(max_error_m * 1e3, 2) << " | "
+       << Sci(std::abs(centre_z - full_centre_z) * 1e3, 2) << " |\n";
     if (hops < 0 && max_error_m != 0.0) ok = false;  // all nodes must be the full update exactly
   }
   md << "\nThe deflection decays away from the contact through the anchored substrate, so a region a few\n"

@@ -27,20 +27,9 @@ LocalRegion MakeLocalRegion(const MsmModel& m) {
     r.adjacency[static_cast<std::size_t>(fill[j])] = m.spring_i[k];
     r.node_springs[static_cast<std::size_t>(fill[j]++)] = static_cast<std::int32_t>(k);
   }
-  const auto a = static_cast<std::size_t>(m.NumAnchors());
-  r.anchor_start.assign(n + 1, 0);
-  for (std::size_t k = 0; k < a; ++k) ++r.anchor_start[static_cast<std::size_t>(m.anchor_node[k]) + 1];
-  for (std::size_t i = 0; i < n; ++i) r.anchor_start[i + 1] += r.anchor_start[i];
-  r.node_anchors.resize(a);
-  std::vector<std::int32_t> afill(r.anchor_start.begin(), r.anchor_start.end() - 1);
-  for (std::size_t k = 0; k < a; ++k)
-    r.node_anchors[static_cast<std::size_t>(afill[static_cast<std::size_t>(m.anchor_node[k])]++)] =
-        static_cast<std::int32_t>(k);
-
   r.active_nodes.reserve(n);
   r.touched_nodes.reserve(n);
   r.springs.reserve(cap);
-  r.anchors.reserve(a);
   r.hops.assign(n, -1);
   r.queue.reserve(n);
   r.spring_mark.assign(cap, 0);
@@ -52,7 +41,6 @@ namespace {
 // From the BFS marks in r.hops (>= 0 = active), fills the output lists.
 void CollectRegion(const MsmModel& m, LocalRegion& r) {
   r.springs.clear();
-  r.anchors.clear();
   r.touched_nodes.clear();
   for (std::int32_t i : r.active_nodes) {
     const auto ui = static_cast<std::size_t>(i);
@@ -63,8 +51,6 @@ void CollectRegion(const MsmModel& m, LocalRegion& r) {
         r.springs.push_back(static_cast<std::int32_t>(s));
       }
     }
-    for (std::int32_t e = r.anchor_start[ui]; e < r.anchor_start[ui + 1]; ++e)
-      r.anchors.push_back(r.node_anchors[static_cast<std::size_t>(e)]);
   }
   // Touched = endpoints of region springs plus active nodes; reuse hops as a mark.
   for (std::int32_t i : r.active_nodes) r.hops[static_cast<std::size_t>(i)] = -2;
@@ -80,7 +66,6 @@ void CollectRegion(const MsmModel& m, LocalRegion& r) {
   }
   for (std::int32_t s : r.springs) r.spring_mark[static_cast<std::size_t>(s)] = 0;
   std::sort(r.springs.begin(), r.springs.end());
-  std::sort(r.anchors.begin(), r.anchors.end());
 }
 
 }  // namespace

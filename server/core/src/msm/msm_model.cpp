@@ -107,6 +107,16 @@ MsmModel BuildMsmModel(const MsmDef& def) {
   m.anchor_k_N_per_m = def.anchor_k_N_per_m;
   m.anchor_c_Ns_per_m = def.anchor_c_Ns_per_m.empty() ? std::vector<double>(a, 0.0) : def.anchor_c_Ns_per_m;
 
+  m.absolute_damping_Ns_per_m = m.node_damping_Ns_per_m;
+  m.anchor_k_sum_N_per_m = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
+  m.anchor_kp_sum_N = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(n));
+  for (std::size_t k = 0; k < a; ++k) {
+    const Eigen::Index i = m.anchor_node[k];
+    m.absolute_damping_Ns_per_m[i] += m.anchor_c_Ns_per_m[k];
+    m.anchor_k_sum_N_per_m[i] += m.anchor_k_N_per_m[k];
+    m.anchor_kp_sum_N.col(i) += m.anchor_k_N_per_m[k] * m.anchor_point_W_m.col(static_cast<Eigen::Index>(k));
+  }
+
   if (std::isnan(def.max_kinetic_energy_J) || def.max_kinetic_energy_J <= 0.0)
     Fail("max_kinetic_energy_J must be > 0 (use infinity to disable the check)");
   m.max_kinetic_energy_J = def.max_kinetic_energy_J;

@@ -1,7 +1,8 @@
 // Local update region (gingival paper, section 1): far from the contact the
 // tissue barely moves, so only nodes within a graph distance of the contact
 // are integrated and the rest are frozen. The region is rebuilt between
-// steps (e.g. when the contact node changes) without allocating.
+// steps (e.g. when the contact node changes) without allocating. Anchors
+// need no list: the step applies them per node (MsmModel anchor sums).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -15,14 +16,9 @@ struct LocalRegion {
   std::vector<std::int32_t> adjacency_start;  // (n + 1)
   std::vector<std::int32_t> adjacency;        // neighbour nodes (2 s)
   std::vector<std::int32_t> node_springs;     // spring index per adjacency entry (2 s)
-  // Node -> anchors (CSR).
-  std::vector<std::int32_t> anchor_start;     // (n + 1)
-  std::vector<std::int32_t> node_anchors;     // (a)
-
   // Output of SelectLocalRegion, sorted ascending (deterministic order):
   std::vector<std::int32_t> active_nodes;     // integrated (free nodes only)
   std::vector<std::int32_t> springs;          // springs with >= 1 active end
-  std::vector<std::int32_t> anchors;          // anchors of active nodes
   std::vector<std::int32_t> touched_nodes;    // active nodes + their spring neighbours
 
   // BFS scratch.

@@ -69,6 +69,13 @@ struct MsmModel {
 
   double max_kinetic_energy_J = std::numeric_limits<double>::infinity();
 
+  // Derived at build so the step folds node damping and every anchor into
+  // one pass over the nodes (anchors are zero-length and linear, so they
+  // sum): f_i += -absolute_damping_i v_i - anchor_k_sum_i x_i + anchor_kp_sum_i.
+  Eigen::VectorXd absolute_damping_Ns_per_m;  // D_i + sum of anchor c at i (n)
+  Eigen::VectorXd anchor_k_sum_N_per_m;       // sum of anchor k at i (n)
+  Eigen::Matrix3Xd anchor_kp_sum_N;           // sum of k_a p_a at i [N] (3 x n)
+
   std::int32_t NumSprings() const { return static_cast<std::int32_t>(spring_i.size()); }
   std::int32_t NumAnchors() const { return static_cast<std::int32_t>(anchor_node.size()); }
 };
