@@ -122,10 +122,10 @@ int Run(const std::filesystem::path& out) {
     for (int i = 0; i < kHoldout; ++i) {
       basis.EvaluateDirection(probe.col(i), y);
       const Eigen::Vector3d exact(kA * probe(0, i), kB * probe(1, i), kC * probe(2, i));
-      const double e = (ShSurfacePoint(fit.surface, y) - exact).norm();
-      worst = std::max(worst, e);
-      sum2 += e * e;
-      if (probe(1, i) > std::cos(std::numbers::pi / 6)) site = std::max(site, e);
+      const double err_m = (ShSurfacePoint(fit.surface, y) - exact).norm();
+      worst = std::max(worst, err_m);
+      sum2 += err_m * err_m;
+      if (probe(1, i) > std::cos(std::numbers::pi / 6)) site = std::max(site, err_m);
     }
     rows.push_back({"ellipsoid_natural", lmax, k, n, fit.condition_number, fit.rms_residual_m, fit.max_residual_m,
                     std::sqrt(sum2 / kHoldout), worst, site});

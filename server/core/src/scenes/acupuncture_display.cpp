@@ -53,39 +53,63 @@ void AcupunctureScene::BuildDisplay() {
     triangles_.insert(triangles_.end(), {tip + 1 + kNeedleSides, tip + 1 + kNeedleSides + k,
                                          tip + 2 + kNeedleSides + k});
   parts_.push_back({"needle", first_needle, static_cast<std::uint32_t>(triangles_.size() / 3) - first_needle});
+  for (auto& near : patch_near_net_) near.reserve(static_cast<std::size_t>(patch_vertices_));
+  for (auto& q : patch_near_q_) q.reserve(static_cast<std::size_t>(patch_vertices_));
   vertices_m_.resize(3, total_patch + kNeedleVertices);
   vertices_m_.leftCols(total_patch) = patch_rest_W_m_;
   UpdateNeedleMesh(Eigen::Vector3d(0, 0, 0.05), -Eigen::Vector3d::UnitZ());
 }
 
-void AcupunctureScene::UpdatePatches() {
-  for (int layer = 0; layer < kNumTissueLayers; ++layer) {
-    const auto i = static_cast<std::size_t>(layer);
-    const int base = layer * patch_vertices_;
-    if (!net_shown_[i] && !springing_back_[i]) {
-      if (patch_displaced_[i]) vertices_m_.middleCols(base, patch_vertices_) = patch_rest_W_m_.middleCols(base, patch_vertices_);
-      patch_displaced_[i] = false;
-      continue;
+void AcupunctureScene::ShowNet(int layer) {
+  const auto i = static_cast<std::size_t>(layer);
+  const ForceNetState& s = net_states_[i];
+  const double inv_L = 1.0 / nets_[i].def.spacing_L_m;
+  const double reach_q = nets_[i].def.rings_w;  // ring w plus the one-spacing taper
+  const int base = layer * patch_vertices_;
+  patch_near_net_[i].clear();  // capacity G² reserved at build: no allocation
+  patch_near_q_[i].clear();
+  for (int k = 0; k < patch_vertices_; ++k) {
+    const Eigen::Vector3d d = patch_rest_W_m_.col(base + k) - s.n1_rest_W_m;
+    const double q = (d - d.dot(s.normal_W) * s.normal_W).norm() * inv_L;
+    if (q < reach_q) {
+      patch_near_net_[i].push_back(base + k);
+      patch_near_q_[i].push_back(q);
     }
+  }
+  net_shown_[i] = true;
+  net_moved_[i] = true;
+}
+
+void AcupunctureScene::HideNet(int layer) {
+  const auto i = static_cast<std::size_t>(layer);
+  for (const std::int32_t v : patch_near_net_[i]) vertices_m_.col(v) = patch_rest_W_m_.col(v);
+  patch_near_net_[i].clear();
+  patch_near_q_[i].clear();
+  net_shown_[i] = false;
+  net_moved_[i] = false;
+}
+
+void AcupunctureScene::UpdatePatches() {
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    if (!net_shown_[i] || !net_moved_[i]) continue;
+    net_moved_[i] = false;
     // Radial displacement of the SH surface by the ring profile Z_j at the
     // vertex's in-plane distance from N1 (linear between rings, tapering to
     // zero one spacing beyond ring w).
-    const ForceNetState& s = net_states_[i];
+    const Eigen::VectorXd& ring_Z_m = net_states_[i].ring_Z_m;
     const int w = nets_[i].def.rings_w;
-    const double inv_L = 1.0 / nets_[i].def.spacing_L_m;
-    for (int k = 0; k < patch_vertices_; ++k) {
-      const Eigen::Vector3d d = patch_rest_W_m_.col(base + k) - s.n1_rest_W_m;
-      const double q = (d - d.dot(s.normal_W) * s.normal_W).norm() * inv_L;
+    for (std::size_t n = 0; n < patch_near_net_[i].size(); ++n) {
+      const std::int32_t v = patch_near_net_[i][n];
+      const double q = patch_near_q_[i][n];
       double z_m = 0.0;
       if (q < w - 1) {
         const int j = static_cast<int>(q);
-        z_m = s.ring_Z_m[j] + (q - j) * (s.ring_Z_m[j + 1] - s.ring_Z_m[j]);
+        z_m = ring_Z_m[j] + (q - j) * (ring_Z_m[j + 1] - ring_Z_m[j]);
       } else if (q < w) {
-        z_m = s.ring_Z_m[w - 1] * (w - q);
+        z_m = ring_Z_m[w - 1] * (w - q);
       }
-      vertices_m_.col(base + k) = patch_rest_W_m_.col(base + k) - z_m * patch_dir_W_.col(base + k);
+      vertices_m_.col(v) = patch_rest_W_m_.col(v) - z_m * patch_dir_W_.col(v);
     }
-    patch_displaced_[i] = true;
   }
 }
 

@@ -49,7 +49,8 @@ void AcupunctureScene::ResetState() {
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
     PlaceForceNet(nets_[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), net_states_[i]);
     eta_[i].setZero();
-    net_shown_[i] = springing_back_[i] = punctured_once_[i] = false;
+    HideNet(static_cast<int>(i));
+    springing_back_[i] = punctured_once_[i] = false;
     puncture_tip_W_m_[i].setZero();
   }
   entry_W_m_.setZero();
@@ -61,7 +62,6 @@ void AcupunctureScene::ResetState() {
   force_model_ = LocalForceModel{};
   status_.current_layer = -1;
   status_.tip_depth_m = 0.0;
-  UpdatePatches();
 }
 
 void AcupunctureScene::Reset() {
@@ -114,9 +114,13 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
   }
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
     if (!springing_back_[i]) continue;
+    // Once η is 0 everywhere, this step puts every particle on its goal, a
+    // fixed point of shape matching: the springback is over.
+    if (eta_[i].maxCoeff() == 0.0) springing_back_[i] = false;
     SpringbackStep(net_states_[i].rest_W_m, unit_mass_[i], params_.springback_eta_rate_per_step,
                    net_states_[i].x_W_m, eta_[i]);
     UpdateRingDeflections(nets_[i], net_states_[i]);
+    net_moved_[i] = true;
   }
   // Blow-up guard: anything non-finite in what we publish resets the scene.
   bool finite = force_W_N_.allFinite();
@@ -136,11 +140,12 @@ void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::
       const double z1_m = (s.n1_rest_W_m - tip).dot(s.normal_W);
       if (z1_m < 0.0) {  // tip lifted off the surface
         pressing_ = false;
-        net_shown_[static_cast<std::size_t>(layer)] = false;
+        HideNet(layer);
         Log(SceneEventKind::kContactEnd, layer, tip);
         continue;
       }
       SolveForceNet(nets_[static_cast<std::size_t>(layer)], tip, s);
+      net_moved_[static_cast<std::size_t>(layer)] = true;
       if (DeformationReachedRingW(nets_[static_cast<std::size_t>(layer)], s)) {
         Puncture(layer, tip, axis);
         continue;
@@ -164,10 +169,11 @@ void AcupunctureScene::StartContact(int layer, const Eigen::Vector3d& tip) {
   const auto i = static_cast<std::size_t>(layer);
   const Eigen::Vector3d dir = tip - body_.Def().center_W_m;
   const Eigen::Vector3d n1 = body_.SurfacePoint_W_m(layer, dir);
+  HideNet(layer);
   PlaceForceNet(nets_[i], n1, body_.OutwardNormal_W(layer, dir), net_states_[i]);
   springing_back_[i] = false;
   punctured_once_[i] = false;
-  net_shown_[i] = true;
+  ShowNet(layer);
   pressing_ = true;
   Log(SceneEventKind::kContactBegin, layer, n1);
 }

@@ -89,6 +89,8 @@ class AcupunctureScene final : public Scene {
   void ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
   void ComputeForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
   void BuildDisplay();
+  void ShowNet(int layer);   // the patch follows this layer's freshly placed net
+  void HideNet(int layer);   // the patch goes back to rest
   void UpdatePatches();
   void UpdateNeedleMesh(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis);
   void Log(SceneEventKind kind, int layer, const Eigen::Vector3d& where);
@@ -100,8 +102,8 @@ class AcupunctureScene final : public Scene {
   std::array<Eigen::VectorXd, kNumTissueLayers> eta_;       // springback factor per particle
   std::array<Eigen::VectorXd, kNumTissueLayers> unit_mass_;  // shape-matching masses (equal)
   std::array<bool, kNumTissueLayers> net_shown_{};           // net deforms the displayed patch
-  std::array<bool, kNumTissueLayers> springing_back_{};
-  std::array<bool, kNumTissueLayers> patch_displaced_{};
+  std::array<bool, kNumTissueLayers> net_moved_{};           // net particles moved this tick
+  std::array<bool, kNumTissueLayers> springing_back_{};      // shape matching still running
   std::array<Eigen::Vector3d, kNumTissueLayers> puncture_tip_W_m_;
   std::array<bool, kNumTissueLayers> punctured_once_{};
 
@@ -123,6 +125,12 @@ class AcupunctureScene final : public Scene {
   int patch_vertices_ = 0;           // per layer
   Eigen::Matrix3Xd patch_rest_W_m_;  // rest vertices of the three patches (3 x 3·G²)
   Eigen::Matrix3Xd patch_dir_W_;     // unit radial direction per patch vertex
+  // Patch vertices within reach of each layer's placed net (capacity G²,
+  // filled when the net is placed): only these are ever displaced.
+  std::array<std::vector<std::int32_t>, kNumTissueLayers> patch_near_net_;
+  // Their in-plane distance from N1 in spring lengths (ring coordinate q),
+  // fixed while the net stays placed.
+  std::array<std::vector<double>, kNumTissueLayers> patch_near_q_;
   Eigen::Matrix3Xd vertices_m_;
   std::vector<std::uint32_t> triangles_;
   std::vector<SurfacePart> parts_;
