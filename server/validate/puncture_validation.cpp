@@ -167,6 +167,12 @@ int Run(const std::filesystem::path& out) {
   const double final_offset = springback.empty() ? -1.0 : springback.back().second;
   checks.push_back({"skin springs back above the tip reference line", final_offset > 0.0,
                     "final offset " + std::to_string(1e3 * final_offset) + " mm"});
+  // Paper Fig. 6: every layer's surface ends above its reference line.
+  for (int i = 1; i < 3; ++i) {
+    const auto off = scene.PuncturePointOffset_m(i);
+    checks.push_back({layers[static_cast<std::size_t>(i)].name + " springs back above the tip reference line",
+                      off && *off > 0.0, off ? "final offset " + std::to_string(1e3 * *off) + " mm" : "not punctured"});
+  }
   checks.push_back({"back to free once the tip leaves the skin", samples.back().state == "free", samples.back().state});
 
   bool all = true;
