@@ -174,6 +174,22 @@ TEST(TissueBlock, EveryIntegratorGivesTheSameStaticPressForce) {
   }
 }
 
+TEST(TissueBlock, LocalUpdateRegionReproducesThePressForce) {
+  // Gingival paper: update only near the contact. 6 hops around the contact
+  // must give the full update's force within 1 %.
+  const ToolInput tool = ToolAt(0.0011, -0.0007, -0.004);
+  TissueBlockScene full(TissueBlockParams{});
+  TissueBlockParams p;
+  p.local_update_hops = 6;
+  TissueBlockScene local(p);
+  Hold(full, tool, 0.5);
+  Hold(local, tool, 0.5);
+  EXPECT_NEAR(local.ToolForce_W_N().z(), full.ToolForce_W_N().z(), 0.01 * full.ToolForce_W_N().z());
+  // Released, the whole patch relaxes again (full update out of contact).
+  Hold(local, ToolAt(0, 0, 0.02), 1.0);
+  EXPECT_LT((local.Vertices_m() - local.Model().x0_m).cwiseAbs().maxCoeff(), 1e-6);
+}
+
 TEST(TissueBlock, SameInputsGiveBitIdenticalState) {
   auto run = [] {
     TissueBlockScene scene(TissueBlockParams{});
@@ -189,6 +205,7 @@ TEST(TissueBlock, StepAllocatesNoMemory) {
     TissueBlockParams p;
     p.integrator.kind = static_cast<IntegratorKind>(code);
     p.dt_s = 1e-4;  // sub-stepped: also covers the sub-step loop
+    p.local_update_hops = code % 2 == 0 ? 3 : 0;  // and the local update path
     TissueBlockScene scene(p);
     scene.Step(ToolAt(0, 0, -0.003), kTick_s);  // warm up
     test::ScopedAllocationCount allocations;

@@ -23,7 +23,7 @@ using detail::NodeTerms;
 MsmWorkspace MakeMsmWorkspace(const MsmModel& model) {
   MsmWorkspace ws;
   const Eigen::Index n = model.num_nodes;
-  for (Eigen::Matrix3Xd* m : {&ws.f, &ws.x0, &ws.v0, &ws.xs, &ws.vs, &ws.sum_x, &ws.sum_v, &ws.rhs,
+  for (Eigen::Matrix3Xd* m : {&ws.f, &ws.xs, &ws.vs, &ws.sum_x, &ws.sum_v, &ws.rhs,
                               &ws.dv, &ws.r, &ws.p, &ws.ap})
     *m = Eigen::Matrix3Xd::Zero(3, n);  // f must start at zero (see msm_kernels.h)
   ws.spring_u.assign(3 * static_cast<std::size_t>(model.spring_capacity), 0.0);

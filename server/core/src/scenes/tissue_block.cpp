@@ -73,6 +73,9 @@ TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& pa
         Bad(key, "must be an integrator code 0..5 (0 explicit_euler, 1 symplectic_euler, "
                  "2 improved_euler, 3 midpoint_averaging, 4 rk4, 5 backward_euler)");
       p.integrator.kind = *kind;
+    } else if (key == "local_update_hops") {
+      if (!(v >= 0 && v <= 1000 && std::floor(v) == v)) Bad(key, "must be an integer in [0, 1000]");
+      p.local_update_hops = static_cast<int>(v);
     } else if (key == "midpoint_alpha") {
       if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) Bad(key, "must be in (0, 1]");
       p.integrator.alpha = v;
@@ -140,6 +143,7 @@ TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
   state_ = MakeMsmState(model_);
   initial_state_ = state_;
   workspace_ = MakeMsmWorkspace(model_);
+  region_ = MakeLocalRegion(model_);
 
   // A contact node carries at most the full penalty spring-damper.
   critical_dt_s_ = core::CriticalTimeStep_s(EstimateModeBounds(model_, params_.contact_stiffness_N_per_m,
@@ -260,6 +264,7 @@ void TissueBlockScene::RecoverFromBlowup() {
   state_.t_s = t_s;
   state_.blowups = blowups;
   loaded_nodes_ = {};
+  region_seed_ = -1;
   ++status_.numerical_resets;
   events_.Push({t_s, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
 }
@@ -269,8 +274,9 @@ void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
   const int substeps = static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(dt_s / params_.dt_s)));
   const double h = std::min(dt_s / substeps, params_.dt_s);
   for (int k = 0; k < substeps; ++k) {
-    ApplyContactForce(FindContact(tool));
-    if (!StepMsm(model_, state_, h, params_.integrator, workspace_).ok) {
+    const Contact c = FindContact(tool);
+    ApplyContactForce(c);
+    if (!Advance(c, h).ok) {
       RecoverFromBlowup();
       break;
     }
@@ -278,9 +284,26 @@ void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
   UpdateOutputs(tool, FindContact(tool));
 }
 
+StepReport TissueBlockScene::Advance(const Contact& c, double h_s) {
+  if (params_.local_update_hops == 0 || !c.active) {
+    region_seed_ = -1;
+    return StepMsm(model_, state_, h_s, params_.integrator, workspace_);
+  }
+  // Centre the region on the corner carrying most of the load; reselect
+  // only when that changes (selection is allocation-free but O(region)).
+  const auto heaviest = static_cast<std::size_t>(
+      std::max_element(c.weights.begin(), c.weights.end()) - c.weights.begin());
+  if (c.nodes[heaviest] != region_seed_) {
+    region_seed_ = c.nodes[heaviest];
+    SelectLocalRegion(model_, region_seed_, params_.local_update_hops, region_);
+  }
+  return StepMsmLocal(model_, state_, h_s, params_.integrator, workspace_, region_);
+}
+
 void TissueBlockScene::Reset() {
   state_ = initial_state_;
   loaded_nodes_ = {};
+  region_seed_ = -1;
   was_in_contact_ = false;
   tool_force_W_N_.setZero();
   force_model_ = LocalForceModel{};

@@ -23,8 +23,7 @@ namespace hapsim::core {
 // Scratch memory for every integrator, sized from the model's node count and
 // spring capacity so cutting (AddSpring within capacity) never invalidates it.
 struct MsmWorkspace {
-  Eigen::Matrix3Xd f;             // force accumulator [N] (3 x n)
-  Eigen::Matrix3Xd x0, v0;        // step start (3 x n)
+  Eigen::Matrix3Xd f;             // spring-force accumulator [N] (3 x n), zero between steps
   Eigen::Matrix3Xd xs, vs;        // stage state (3 x n)
   Eigen::Matrix3Xd sum_x, sum_v;  // RK4 weighted stage sums (3 x n)
   // Backward Euler / CG (3 x n each).

@@ -21,7 +21,9 @@
 //   contact_damping_Ns_per_m, max_penetration_m,
 //   dt_s, integrator (IntegratorKind code: 0 explicit Euler, 1 symplectic
 //   Euler, 2 improved Euler, 3 midpoint-averaging, 4 RK4, 5 backward Euler),
-//   midpoint_alpha.
+//   midpoint_alpha, local_update_hops (0 = integrate every node; N > 0 =
+//   while in contact, integrate only nodes within N spring hops of the
+//   contact, the gingival paper's local update).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -31,6 +33,7 @@
 
 #include "hapsim/core/integrators/integrator_kind.h"
 #include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"
 #include "hapsim/core/msm/units.h"
@@ -58,6 +61,7 @@ struct TissueBlockParams {
   double max_penetration_m = 0.02;          // deeper tips are treated as this deep
   double dt_s = 1e-3;                       // largest internal step; Step() sub-steps to it
   IntegratorChoice integrator{};            // default symplectic Euler
+  int local_update_hops = 0;                // 0 = full update every step
 };
 
 // The scene's mass-spring grid as a plain definition (also used by the
@@ -109,12 +113,15 @@ class TissueBlockScene final : public Scene {
   void UpdateOutputs(const ToolInput& tool, const Contact& c);
   double LocalSurfaceStiffness_N_per_m(const Contact& c) const;
   void RecoverFromBlowup();
+  StepReport Advance(const Contact& c, double h_s);
 
   TissueBlockParams params_;
   MsmModel model_;
   MsmState state_;
   MsmState initial_state_;
   MsmWorkspace workspace_;
+  LocalRegion region_;
+  std::int32_t region_seed_ = -1;               // node the current region is centred on
   double critical_dt_s_ = 0.0;
   double spacing_m_ = 0.0;
   std::array<std::int32_t, 4> loaded_nodes_{};  // nodes carrying contact f_ext
