@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "allocation_counter.h"
 #include "hapsim/core/msm/msm_forces.h"
@@ -117,6 +118,26 @@ TEST(TissueBlock, LocalForceModelReproducesTheToolForceAtTheTip) {
   EXPECT_LE(m.stiffness_N_per_m, scene.Params().contact_stiffness_N_per_m);
   const Eigen::Vector3d f = EvaluateLocalForce(m, tool.tip_W_m, Eigen::Vector3d::Zero());
   EXPECT_NEAR((f - scene.ToolForce_W_N()).norm(), 0.0, 1e-9);
+}
+
+TEST(TissueBlock, ForceModelStiffnessBoundsTheStaticTangentStiffness) {
+  // Reference: dF/d(depth) of the settled press, by a 0.1 mm finite
+  // difference. The estimate treats the four contact nodes as uncoupled
+  // springs, so it may only overestimate, and (measured) by less than 2x.
+  auto settle = [](double depth_m) {
+    auto scene = std::make_unique<TissueBlockScene>(TissueBlockParams{});
+    Hold(*scene, ToolAt(0.0011, -0.0007, -depth_m), 0.8);
+    return scene;
+  };
+  for (const double depth_m : {0.001, 0.003, 0.005}) {
+    const auto a = settle(depth_m), b = settle(depth_m + 1e-4);
+    const double tangent_N_per_m = (b->ToolForce_W_N().z() - a->ToolForce_W_N().z()) / 1e-4;
+    const double contact_k = a->Params().contact_stiffness_N_per_m;
+    // The tool-side reference includes the penalty spring in series, as the model does.
+    EXPECT_GE(a->ForceModel().stiffness_N_per_m, tangent_N_per_m) << depth_m;
+    EXPECT_LE(a->ForceModel().stiffness_N_per_m, 2.0 * tangent_N_per_m) << depth_m;
+    EXPECT_LT(a->ForceModel().stiffness_N_per_m, contact_k);
+  }
 }
 
 TEST(TissueBlock, ContactBeginAndEndAreLogged) {

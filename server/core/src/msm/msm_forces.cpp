@@ -9,12 +9,14 @@ namespace hapsim::core {
 
 void ComputeForces(const MsmModel& model, const MsmState& state, const Eigen::Matrix3Xd& x_m,
                    const Eigen::Matrix3Xd& v_m_per_s, Eigen::Matrix3Xd& f_N) {
-  f_N = Eigen::Matrix3Xd::Zero(3, model.num_nodes);
-  detail::SpringForces(model, x_m.data(), v_m_per_s.data(), f_N.data(), detail::AllRange{model.NumSprings()});
+  // Same two parts as the step: spring scatter, then the per-node terms.
+  Eigen::Matrix3Xd spring_f_N = Eigen::Matrix3Xd::Zero(3, model.num_nodes);
+  detail::SpringForces(model, x_m.data(), v_m_per_s.data(), spring_f_N.data(),
+                       detail::AllRange{model.NumSprings()});
   const detail::NodeTerms terms(model, state);
-  Eigen::Matrix3Xd spring_f = f_N;
+  f_N.resize(3, model.num_nodes);
   for (std::int32_t i = 0; i < model.num_nodes; ++i)
-    for (int c = 0; c < 3; ++c) f_N(c, i) = terms.Take(spring_f.data(), x_m.data(), v_m_per_s.data(), i, c);
+    for (int c = 0; c < 3; ++c) f_N(c, i) = terms.Take(spring_f_N.data(), x_m.data(), v_m_per_s.data(), i, c);
 }
 
 double PotentialEnergy_J(const MsmModel& model, const MsmState& state, const Eigen::Matrix3Xd& x) {

@@ -18,6 +18,8 @@ constexpr double kCriticalStepSafety = 0.9;
 // At most this many sub-steps per Step(): a huge dt (e.g. after a pause) is
 // truncated instead of stalling the tick.
 constexpr int kMaxSubsteps = 1000;
+// Tool speed used by the contact damper is clamped to this [m/s].
+constexpr double kMaxToolSpeed_m_per_s = 10.0;
 // Kinetic energy the patch never reaches under any sane press [J].
 constexpr double kMaxKineticEnergy_J = 10.0;
 
@@ -194,7 +196,9 @@ TissueBlockScene::Contact TissueBlockScene::FindContact(const ToolInput& tool) c
   if (!(penetration_m > 0.0)) return c;
   c.active = true;
   c.penetration_m = std::min(penetration_m, params_.max_penetration_m);
-  const double tip_vz_m_per_s = std::isfinite(tool.velocity_W_m_per_s.z()) ? tool.velocity_W_m_per_s.z() : 0.0;
+  // A hand moves well below 10 m/s; anything else is a bad device reading.
+  const double reported_vz = tool.velocity_W_m_per_s.z();
+  const double tip_vz_m_per_s = std::isfinite(reported_vz) ? std::clamp(reported_vz, -kMaxToolSpeed_m_per_s, kMaxToolSpeed_m_per_s) : 0.0;
   // Clamped at 0: the damper never pulls the tool into the tissue.
   c.push_N = std::max(0.0, params_.contact_stiffness_N_per_m * c.penetration_m +
                                params_.contact_damping_Ns_per_m * (surface_vz_m_per_s - tip_vz_m_per_s));
@@ -218,9 +222,9 @@ double TissueBlockScene::LocalSurfaceStiffness_N_per_m(const Contact& c) const {
     const std::int32_t i = c.nodes[k];
     double kz = model_.fixed[static_cast<std::size_t>(i)] ? std::numeric_limits<double>::infinity()
                                                           : params_.anchor_stiffness_N_per_m;
-    for (std::int32_t s = 0; s < model_.NumSprings() && std::isfinite(kz); ++s) {
-      const auto us = static_cast<std::size_t>(s);
-      if (model_.spring_i[us] != i && model_.spring_j[us] != i) continue;
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::int32_t e = region_.adjacency_start[ui]; e < region_.adjacency_start[ui + 1] && std::isfinite(kz); ++e) {
+      const auto us = static_cast<std::size_t>(region_.node_springs[static_cast<std::size_t>(e)]);
       const Eigen::Vector3d d = state_.x_m.col(model_.spring_j[us]) - state_.x_m.col(model_.spring_i[us]);
       const double l = d.norm();
       const double uz = d.z() / l;
