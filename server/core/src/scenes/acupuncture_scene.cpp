@@ -94,7 +94,11 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
                        tool.orientation_W.norm() > 0.0 && tool.velocity_W_m_per_s.allFinite();
   if (!tool_ok) {
     // No (usable) tool: the needle is out of the tissue.
-    if (pressing_ || punctured_ > 0) Log(SceneEventKind::kContactEnd, status_.current_layer, tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero());
+    if (pressing_ || punctured_ > 0) {
+      const Eigen::Vector3d where = tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero();
+      Log(SceneEventKind::kContactEnd, status_.current_layer, where);
+    }
+    if (pressing_) HideNet(punctured_);  // an unpunctured dimple relaxes
     pressing_ = false;
     punctured_ = 0;
     force_W_N_.setZero();
