@@ -276,6 +276,22 @@ TEST_F(AcupunctureSceneTest, NonFiniteOrMissingToolIsTreatedAsAbsentNotAsACrash)
   EXPECT_TRUE(std::isfinite(scene_.SimTime_s()));
 }
 
+TEST_F(AcupunctureSceneTest, DegenerateGeometryIsCountedAsABlowUpAndResetNotACrash) {
+  // A tip exactly at the SH body's centre has no radial direction: the net
+  // normal is NaN. The guard must catch it, reset and count it.
+  const auto events_before = scene_.EventsTotal();
+  scene_.Step(VerticalTool(scene_.Body().Def().center_W_m.z(), 0.0), kTick_s);
+  EXPECT_EQ(scene_.Status().numerical_resets, 1u);
+  EXPECT_TRUE(scene_.ToolForce_W_N().allFinite());
+  EXPECT_EQ(scene_.ForceModel().state, ContactState::kFree);
+  EXPECT_EQ(scene_.EventsTotal(), events_before + 2);  // contact begin, reset
+  EXPECT_EQ(scene_.Events().back().kind, SceneEventKind::kReset);
+  EXPECT_TRUE(scene_.Vertices_m().allFinite());
+  // And the scene keeps working afterwards.
+  const Trace tr = Insert(scene_, 1e-3);
+  EXPECT_EQ(tr.punctures.size(), 2u);  // skin, and fat at 0.826 mm
+}
+
 TEST_F(AcupunctureSceneTest, ResetLogsAnEventAndReturnsToFree) {
   Insert(scene_, 3e-3);
   const auto before = scene_.EventsTotal();

@@ -22,7 +22,7 @@ void Require(bool ok, const std::string& what) {
 // Static influence vector from the MSM core: N1 fixed and displaced by
 // unit_m along z, everything else relaxed to equilibrium by backward Euler
 // with a step so long that inertia is negligible (each step is then a Newton
-// step on the statics; the system is linear, so two steps reach round-off).
+// step on the statics; the system is linear, so a few steps reach round-off).
 Eigen::VectorXd SolveInfluence(const HexNetTopology& topo, double K, double ks, double& residual_N) {
   const std::int32_t n = topo.NumNodes();
   MsmDef def;
