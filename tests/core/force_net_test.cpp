@@ -104,6 +104,29 @@ TEST(ForceNet, ReactionOnTipEqualsSpringAndAnchorForcesOnN1) {
   EXPECT_LT((on_n1 - NetReactionOnTip_W_N(m, s)).norm(), 1e-10 * on_n1.norm());
 }
 
+TEST(ForceNet, SurfaceForceIsTheDerivativeOfStoredEnergyByFiniteDifferences) {
+  // Elastic energy in displacement form (the edge traction balances the
+  // rest tension, so no linear term): ½ K Σ|u_i|² + ½ k_s Σ_springs |u_i - u_j|².
+  // With every other particle in equilibrium, dE/dZ_1 is the force the tip
+  // must push with, i.e. F·n (envelope theorem).
+  const ForceNetModel m = BuildForceNet(SkinNet());
+  ForceNetState s = MakeForceNetState(m);
+  const Eigen::Vector3d n = Eigen::Vector3d(0.1, 0.3, 1.0).normalized();
+  PlaceForceNet(m, Eigen::Vector3d::Zero(), n, s);
+  auto energy_J = [&](double z1_m) {
+    SolveForceNet(m, -z1_m * n, s);
+    const Eigen::Matrix3Xd u = s.x_W_m - s.rest_W_m;
+    double e = 0.5 * m.def.virtual_K_N_per_m * u.squaredNorm();
+    for (const auto& sp : m.topology.springs) e += 0.5 * m.surface_k_N_per_m * (u.col(sp[0]) - u.col(sp[1])).squaredNorm();
+    return e;
+  };
+  const double z1 = 0.08e-3, h = 1e-7;
+  const double de_dz_N = (energy_J(z1 + h) - energy_J(z1 - h)) / (2 * h);
+  SolveForceNet(m, -z1 * n, s);
+  const double f_n = NetReactionOnTip_W_N(m, s).dot(n);
+  EXPECT_NEAR(de_dz_N, f_n, 1e-7 * f_n);
+}
+
 TEST(ForceNet, FlatProfileLimitGivesMissionStiffness) {
   // τ → ∞: every ring moves with N1, F = K (1 + 3w(w-1)) Z1 = 27.04 N/mm for skin.
   ForceNetDef d = SkinNet();
