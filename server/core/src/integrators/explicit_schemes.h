@@ -1,0 +1,163 @@
+// Internal: the explicit schemes (definitions in integrator_kind.h), each a
+// spring pass per force evaluation plus one fused pass over the nodes.
+// Included only by msm_step.cpp.
+#pragma once
+#include "hapsim/core/integrators/msm_step.h"
+#include "step_common.h"
+
+namespace hapsim::core::detail {
+
+template <class R>
+void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
+  double* __restrict x = s.x_m.data();
+  double* __restrict v = s.v_m_per_s.data();
+  double* __restrict f = ws.f.data();
+  const NodeTerms t(m, s);
+  SpringPass(m, x, v, f, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      const double a = t.inv_mass[i] * t.Take(f, x, v, i, c);
+      x[e] += h * v[e];
+      v[e] += h * a;
+      g.position_sum += x[e];
+      v2 += v[e] * v[e];
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
+template <class R>
+void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
+  double* __restrict x = s.x_m.data();
+  double* __restrict v = s.v_m_per_s.data();
+  double* __restrict f = ws.f.data();
+  const NodeTerms t(m, s);
+  SpringPass(m, x, v, f, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      v[e] += h * t.inv_mass[i] * t.Take(f, x, v, i, c);
+      x[e] += h * v[e];
+      g.position_sum += x[e];
+      v2 += v[e] * v[e];
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
+template <class R>
+void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
+  double* __restrict x = s.x_m.data();
+  double* __restrict v = s.v_m_per_s.data();
+  double* __restrict f = ws.f.data();
+  const NodeTerms t(m, s);
+  SpringPass(m, x, v, f, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      const double v1 = v[e] + h * t.inv_mass[i] * t.Take(f, x, v, i, c);
+      x[e] += 0.5 * h * (v[e] + v1);
+      v[e] = v1;
+      g.position_sum += x[e];
+      v2 += v1 * v1;
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
+template <class R>
+void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, MsmWorkspace& ws, R r, Guard& g) {
+  double* __restrict x = s.x_m.data();
+  double* __restrict v = s.v_m_per_s.data();
+  double* __restrict f = ws.f.data();
+  double* __restrict xs = ws.xs.data();
+  double* __restrict vs = ws.vs.data();
+  const NodeTerms t(m, s);
+  const double ah = alpha * h;
+  SpringPass(m, x, v, f, r);
+  CopyTouched(x, v, xs, vs, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      vs[e] = v[e] + ah * t.inv_mass[i] * t.Take(f, x, v, i, c);
+      xs[e] = x[e] + ah * vs[e];
+    }
+  }
+  SpringPass(m, xs, vs, f, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      const double v1 = v[e] + h * t.inv_mass[i] * t.Take(f, xs, vs, i, c);
+      x[e] += 0.5 * h * (v[e] + v1);
+      v[e] = v1;
+      g.position_sum += x[e];
+      v2 += v1 * v1;
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
+template <class R>
+void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
+  double* __restrict x = s.x_m.data();
+  double* __restrict v = s.v_m_per_s.data();
+  double* __restrict f = ws.f.data();
+  double* __restrict xs = ws.xs.data();
+  double* __restrict vs = ws.vs.data();
+  double* __restrict sx = ws.sum_x.data();
+  double* __restrict sv = ws.sum_v.data();
+  const NodeTerms t(m, s);
+  SpringPass(m, x, v, f, r);
+  CopyTouched(x, v, xs, vs, r);
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {  // k1 = (v, a(x, v))
+    const std::int32_t i = r.active[k];
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      const double a = t.inv_mass[i] * t.Take(f, x, v, i, c);
+      sx[e] = v[e];
+      sv[e] = a;
+      xs[e] = x[e] + 0.5 * h * v[e];
+      vs[e] = v[e] + 0.5 * h * a;
+    }
+  }
+  for (const double stage_h : {0.5 * h, h}) {  // k2, k3
+    SpringPass(m, xs, vs, f, r);
+    for (std::int32_t k = 0; k < r.active.size(); ++k) {
+      const std::int32_t i = r.active[k];
+      for (int c = 0; c < 3; ++c) {
+        const std::int32_t e = 3 * i + c;
+        const double kx = vs[e], kv = t.inv_mass[i] * t.Take(f, xs, vs, i, c);
+        sx[e] += 2.0 * kx;
+        sv[e] += 2.0 * kv;
+        xs[e] = x[e] + stage_h * kx;
+        vs[e] = v[e] + stage_h * kv;
+      }
+    }
+  }
+  SpringPass(m, xs, vs, f, r);  // k4
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      const double a4 = t.inv_mass[i] * t.Take(f, xs, vs, i, c);
+      x[e] += h / 6.0 * (sx[e] + vs[e]);
+      v[e] += h / 6.0 * (sv[e] + a4);
+      g.position_sum += x[e];
+      v2 += v[e] * v[e];
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
+}  // namespace hapsim::core::detail
