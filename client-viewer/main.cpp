@@ -16,7 +16,7 @@
 int main(int argc, char** argv) {
   std::string server = "127.0.0.1:50051", obj_path, log_level = "info";
   hapsim::viewer::ViewerOptions options;
-  int frames = 0, drop_seq = -1;
+  int frames = 0, drop_seq = -1, ack_window = 2;
   bool headless = true;
   hapsim::runtime::Flags flags("hapsim-viewer",
                                "Viewer of hapsim: subscribes to a session's frames (keyframe, then deltas) over gRPC,\n"
@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   flags.Add("frames", &frames, "stop after this many frames (0: no limit)");
   flags.Add("seconds", &options.max_seconds, "stop after this long [s] (0: no limit)");
   flags.Add("max-rate-hz", &options.max_rate_hz, "ask the server for at most this frame rate (0: server's rate)");
+  flags.Add("ack-window", &ack_window, "frames the server may send ahead of this viewer's acks (0: no limit)");
   flags.Add("connect-timeout-s", &options.connect_timeout_s, "give up if the server is not reachable by then [s]");
   flags.Add("obj", &obj_path, "write the final mesh here as Wavefront OBJ (metres)");
   flags.Add("debug-drop-seq", &drop_seq, "test only: treat the frame with this seq as lost (forces a resync)");
@@ -50,6 +51,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hapsim-viewer: a flag is out of range (see --help)\n");
     return 2;
   }
+  if (ack_window < 0 || ack_window > 64) {
+    std::fprintf(stderr, "hapsim-viewer: --ack-window must be within [0, 64]\n");
+    return 2;
+  }
+  options.ack_window = static_cast<std::uint32_t>(ack_window);
   options.max_frames = static_cast<std::uint64_t>(frames);
   options.debug_drop_seq = drop_seq;
 

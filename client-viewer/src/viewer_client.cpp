@@ -47,15 +47,19 @@ bool ViewerClient::Run() {
       active_context_ = &context;
     }
     if (stop_) context.TryCancel();
-    hapsim::v1::SubscribeRequest request;
-    request.set_session_id(options_.session);
-    request.set_max_rate_hz(options_.max_rate_hz);
-    request.set_viewer_name(options_.name);
-    auto reader = stub_->Subscribe(&context, request);
+    auto stream = stub_->Subscribe(&context);
+    hapsim::v1::ViewerMessage hello;
+    auto* request = hello.mutable_subscribe();
+    request->set_session_id(options_.session);
+    request->set_max_rate_hz(options_.max_rate_hz);
+    request->set_viewer_name(options_.name);
+    request->set_ack_window(options_.ack_window);
+    stream->Write(hello);  // a failure shows up as the stream's final status
+    hapsim::v1::ViewerMessage ack;
     cache_.Invalidate();
     bool resubscribe = false, limit_reached = false;
     hapsim::v1::Frame frame;
-    while (reader->Read(&frame)) {
+    while (stream->Read(&frame)) {
       ++stats_.frames;
       stats_.bytes += frame.ByteSizeLong();
       if (frame.has_keyframe()) ++stats_.keyframes; else ++stats_.deltas;
@@ -98,13 +102,17 @@ bool ViewerClient::Run() {
           break;
         }
       }
+      // Acknowledge what is applied (or deliberately dropped): the server sends
+      // at most ack_window frames ahead of this.
+      ack.mutable_ack()->set_applied_seq(frame.seq());
+      stream->Write(ack);
       if (options_.max_frames > 0 && stats_.frames >= options_.max_frames) {
         limit_reached = true;
         break;
       }
     }
     if (resubscribe || limit_reached || stop_) context.TryCancel();
-    const grpc::Status status = reader->Finish();
+    const grpc::Status status = stream->Finish();
     {
       std::lock_guard lock(context_mutex_);
       active_context_ = nullptr;

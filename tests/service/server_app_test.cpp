@@ -3,6 +3,7 @@
 // caller gets a clear status and the server keeps ticking.
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 
@@ -51,6 +52,21 @@ class ServerAppTest : public ::testing::Test {
     hapsim::v1::SessionInfo info;
     return sessions_->CreateSession(&ctx, req, &info);
   }
+  using Stream = grpc::ClientReaderWriter<hapsim::v1::ViewerMessage, hapsim::v1::Frame>;
+  std::unique_ptr<Stream> Subscribe(grpc::ClientContext* ctx, const std::string& id, std::uint32_t ack_window = 0) {
+    auto stream = viewers_->Subscribe(ctx);
+    hapsim::v1::ViewerMessage hello;
+    hello.mutable_subscribe()->set_session_id(id);
+    hello.mutable_subscribe()->set_ack_window(ack_window);
+    stream->Write(hello);
+    return stream;
+  }
+  static void Ack(Stream* stream, std::uint64_t seq) {
+    hapsim::v1::ViewerMessage ack;
+    ack.mutable_ack()->set_applied_seq(seq);
+    stream->Write(ack);
+  }
+
   hapsim::v1::SessionInfo Info(const std::string& id, grpc::Status* status = nullptr) {
     grpc::ClientContext ctx;
     hapsim::v1::SessionRef ref;
@@ -73,9 +89,7 @@ TEST_F(ServerAppTest, UnknownSessionIsNotFoundForEveryCall) {
   Info("nope", &s);
   EXPECT_EQ(s.error_code(), grpc::StatusCode::NOT_FOUND);
   grpc::ClientContext ctx;
-  hapsim::v1::SubscribeRequest req;
-  req.set_session_id("nope");
-  auto reader = viewers_->Subscribe(&ctx, req);
+  auto reader = Subscribe(&ctx, "nope");
   hapsim::v1::Frame frame;
   EXPECT_FALSE(reader->Read(&frame));
   EXPECT_EQ(reader->Finish().error_code(), grpc::StatusCode::NOT_FOUND);
@@ -146,9 +160,7 @@ TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
   ASSERT_TRUE(Create("v").ok());
   {
     grpc::ClientContext ctx;
-    hapsim::v1::SubscribeRequest req;
-    req.set_session_id("v");
-    auto reader = viewers_->Subscribe(&ctx, req);
+    auto reader = Subscribe(&ctx, "v");
     hapsim::v1::Frame frame;
     ASSERT_TRUE(reader->Read(&frame));
     EXPECT_TRUE(frame.has_keyframe());
@@ -245,6 +257,78 @@ TEST_F(ServerAppTest, SnapshotAndSceneListAnswer) {
   EXPECT_GT(snap.positions_m_size(), 0);
   EXPECT_EQ(snap.positions_m_size() % 3, 0);
   EXPECT_EQ(snap.triangles_size() % 3, 0);
+}
+
+TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
+  ASSERT_TRUE(Create("slow").ok());
+  grpc::ClientContext ctx;
+  auto reader = Subscribe(&ctx, "slow", /*ack_window=*/2);
+  hapsim::v1::Frame frame;
+  std::uint64_t expected_seq = 0;
+  double worst_lag_s = 0.0, last_sim = -1.0, largest_step_s = 0.0;
+  for (int i = 0; i < 25; ++i) {  // a viewer that handles 10 frames per second
+    ASSERT_TRUE(reader->Read(&frame));
+    EXPECT_EQ(frame.seq(), expected_seq++);  // contiguous despite coalescing
+    const double lag = Info("slow").sim_time_s() - frame.sim_time_s();
+    if (i >= 5) worst_lag_s = std::max(worst_lag_s, lag);
+    if (last_sim >= 0) largest_step_s = std::max(largest_step_s, frame.sim_time_s() - last_sim);
+    last_sim = frame.sim_time_s();
+    std::this_thread::sleep_for(100ms);
+    Ack(reader.get(), frame.seq());
+  }
+  ctx.TryCancel();
+  while (reader->Read(&frame)) {
+  }
+  reader->Finish();
+  std::printf("slow viewer (ack window 2): worst lag %.3f s, largest sim-time step between frames %.3f s\n",
+              worst_lag_s, largest_step_s);
+  EXPECT_GT(largest_step_s, 2.0 / 60.0);  // snapshots were skipped, not queued
+  EXPECT_LT(worst_lag_s, 0.35);           // at most ~2 frames of this viewer's 100 ms behind
+}
+
+TEST_F(ServerAppTest, AckWindowStopsTheStreamUntilTheViewerAcks) {
+  ASSERT_TRUE(Create("win").ok());
+  grpc::ClientContext ctx;
+  auto reader = Subscribe(&ctx, "win", /*ack_window=*/2);
+  hapsim::v1::Frame frame;
+  ASSERT_TRUE(reader->Read(&frame));
+  ASSERT_TRUE(reader->Read(&frame));
+  EXPECT_EQ(frame.seq(), 1u);
+  // Two frames unacknowledged: the server must hold the third back. Prove it
+  // by acking only after a pause and checking the next frame is recent,
+  // i.e. it was built after the ack, not queued before it.
+  std::this_thread::sleep_for(300ms);
+  const double sim_at_ack = Info("win").sim_time_s();
+  Ack(reader.get(), 0);
+  ASSERT_TRUE(reader->Read(&frame));
+  EXPECT_EQ(frame.seq(), 2u);
+  EXPECT_GT(frame.sim_time_s(), sim_at_ack - 0.03);
+  ctx.TryCancel();
+  while (reader->Read(&frame)) {
+  }
+  reader->Finish();
+}
+
+TEST_F(ServerAppTest, SubscribeWithoutRequestOrWithBadWindowIsRejected) {
+  ASSERT_TRUE(Create("bad").ok());
+  {
+    grpc::ClientContext ctx;
+    auto stream = viewers_->Subscribe(&ctx);
+    hapsim::v1::ViewerMessage ack_first;
+    ack_first.mutable_ack()->set_applied_seq(3);
+    stream->Write(ack_first);
+    hapsim::v1::Frame frame;
+    EXPECT_FALSE(stream->Read(&frame));
+    EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  {
+    grpc::ClientContext ctx;
+    auto stream = Subscribe(&ctx, "bad", 1000);
+    hapsim::v1::Frame frame;
+    EXPECT_FALSE(stream->Read(&frame));
+    EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  EXPECT_TRUE(Create("still-fine").ok());
 }
 
 }  // namespace

@@ -1,10 +1,12 @@
 #include "hapsim/service/viewer_link.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace hapsim::service {
 
-ViewerLink::ViewerLink(std::string name, double max_rate_hz, double quantum_m) : name_(std::move(name)) {
+ViewerLink::ViewerLink(std::string name, double max_rate_hz, double quantum_m, std::uint32_t ack_window)
+    : name_(std::move(name)), ack_window_(ack_window) {
   encoder_.quantum_m = quantum_m;
   if (max_rate_hz > 0.0) min_interval_ns_ = static_cast<std::int64_t>(std::llround(1e9 / max_rate_hz));
 }
@@ -17,7 +19,8 @@ void ViewerLink::Attach(Stream* stream) {
 void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return;
-  if (write_in_flight_ || now_ns - last_send_ns_ < min_interval_ns_) {
+  const bool window_full = ack_window_ > 0 && encoder_.next_seq - acked_frames_ >= ack_window_;
+  if (write_in_flight_ || window_full || now_ns - last_send_ns_ < min_interval_ns_) {
     ++skipped_;
     return;
   }
@@ -37,6 +40,12 @@ void ViewerLink::OnWriteDone(bool ok) {
     finished_ = true;  // the client is gone; the stream ends
     stream_->FinishStream(grpc::Status(grpc::StatusCode::UNAVAILABLE, "write failed"));
   }
+}
+
+void ViewerLink::OnAck(std::uint64_t applied_seq) {
+  std::lock_guard lock(mutex_);
+  // Acks only move forward and never past what was sent.
+  if (applied_seq < encoder_.next_seq) acked_frames_ = std::max(acked_frames_, applied_seq + 1);
 }
 
 void ViewerLink::OnCancelled() {

@@ -1,6 +1,7 @@
 #include "hapsim/service/viewer_service.h"
 
 #include <cmath>
+#include <mutex>
 
 #include <spdlog/spdlog.h>
 
@@ -11,57 +12,100 @@ namespace hapsim::service {
 namespace {
 
 using hapsim::v1::Frame;
+using hapsim::v1::ViewerMessage;
 
-// Ends a Subscribe call at once with an error (unknown session, bad request).
-class RejectReactor final : public grpc::ServerWriteReactor<Frame> {
- public:
-  explicit RejectReactor(const grpc::Status& status) { Finish(status); }
-  void OnDone() override { delete this; }
-};
+constexpr std::uint32_t kMaxAckWindow = 64;
 
-class SubscribeReactor final : public grpc::ServerWriteReactor<Frame>, public ViewerLink::Stream {
+// One Subscribe stream. Reads the subscribe request, then keeps reading acks
+// for the whole stream; frames are written by the frame pump via the link.
+class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Frame>, public ViewerLink::Stream {
  public:
-  SubscribeReactor(std::shared_ptr<Session> session, std::shared_ptr<ViewerLink> link)
-      : session_(std::move(session)), link_(std::move(link)) {
-    link_->Attach(this);
-    session_->AddViewer(link_);
-    spdlog::info("viewer '{}' subscribed to session '{}'", link_->name(), session_->id());
+  SubscribeReactor(SessionRegistry* registry, double quantum_m, std::string peer)
+      : registry_(registry), quantum_m_(quantum_m), peer_(std::move(peer)) {
+    StartRead(&incoming_);
   }
 
   void StartFrameWrite(const Frame* frame) override { StartWrite(frame); }
   void FinishStream(const grpc::Status& status) override { Finish(status); }
 
-  void OnWriteDone(bool ok) override { link_->OnWriteDone(ok); }
-  void OnCancel() override { link_->OnCancelled(); }
+  void OnReadDone(bool ok) override {
+    if (!ok) {  // the viewer closed its side or went away
+      if (!link_) Finish(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "no SubscribeRequest received"));
+      return;
+    }
+    if (!link_) {
+      const grpc::Status status = Subscribe();
+      if (!status.ok()) {
+        Finish(status);
+        return;
+      }
+    } else if (incoming_.has_ack()) {
+      link_->OnAck(incoming_.ack().applied_seq());
+    }
+    StartRead(&incoming_);
+  }
+  void OnWriteDone(bool ok) override {
+    if (auto link = Link()) link->OnWriteDone(ok);
+  }
+  void OnCancel() override {
+    if (auto link = Link()) link->OnCancelled();
+  }
   void OnDone() override {
-    link_->Detach();
-    session_->RemoveViewer(link_.get());
-    spdlog::info("viewer '{}' left session '{}' after {} frames, {} bytes", link_->name(), session_->id(),
-                 link_->frames_sent(), link_->bytes_sent());
+    if (link_) {
+      link_->Detach();
+      session_->RemoveViewer(link_.get());
+      spdlog::info("viewer '{}' left session '{}' after {} frames, {} bytes", link_->name(), session_->id(),
+                   link_->frames_sent(), link_->bytes_sent());
+    }
     delete this;
   }
 
  private:
+  // Read and write reactions may run on different threads: link_ is set once
+  // (first read) and read elsewhere under this mutex.
+  std::shared_ptr<ViewerLink> Link() {
+    std::lock_guard lock(link_mutex_);
+    return link_;
+  }
+
+  grpc::Status Subscribe() {
+    if (!incoming_.has_subscribe()) {
+      return {grpc::StatusCode::INVALID_ARGUMENT, "the first message must be a SubscribeRequest"};
+    }
+    const auto& req = incoming_.subscribe();
+    const double rate = req.max_rate_hz();
+    if (!std::isfinite(rate) || rate < 0.0) return {grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0"};
+    if (req.ack_window() > kMaxAckWindow) {
+      return {grpc::StatusCode::INVALID_ARGUMENT, "ack_window must be at most " + std::to_string(kMaxAckWindow)};
+    }
+    session_ = registry_->Find(req.session_id());
+    if (!session_) return {grpc::StatusCode::NOT_FOUND, "no session '" + req.session_id().substr(0, 80) + "'"};
+    std::string name = req.viewer_name().empty() ? peer_ : req.viewer_name().substr(0, 80);
+    auto link = std::make_shared<ViewerLink>(std::move(name), rate, quantum_m_, req.ack_window());
+    link->Attach(this);
+    {
+      std::lock_guard lock(link_mutex_);
+      link_ = link;
+    }
+    session_->AddViewer(link_);
+    spdlog::info("viewer '{}' subscribed to session '{}' (ack window {})", link_->name(), session_->id(),
+                 req.ack_window());
+    return grpc::Status::OK;
+  }
+
+  SessionRegistry* registry_;
+  double quantum_m_;
+  std::string peer_;
+  ViewerMessage incoming_;
   std::shared_ptr<Session> session_;
+  std::mutex link_mutex_;
   std::shared_ptr<ViewerLink> link_;
 };
 
 }  // namespace
 
-grpc::ServerWriteReactor<Frame>* ViewerServiceImpl::Subscribe(grpc::CallbackServerContext* context,
-                                                              const hapsim::v1::SubscribeRequest* request) {
-  auto session = registry_->Find(request->session_id());
-  if (!session) {
-    return new RejectReactor(grpc::Status(grpc::StatusCode::NOT_FOUND,
-                                          "no session '" + request->session_id().substr(0, 80) + "'"));
-  }
-  const double rate = request->max_rate_hz();
-  if (!std::isfinite(rate) || rate < 0.0) {
-    return new RejectReactor(grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0"));
-  }
-  std::string name = request->viewer_name().empty() ? context->peer() : request->viewer_name().substr(0, 80);
-  auto link = std::make_shared<ViewerLink>(std::move(name), rate, quantum_m_);
-  return new SubscribeReactor(std::move(session), std::move(link));
+grpc::ServerBidiReactor<ViewerMessage, Frame>* ViewerServiceImpl::Subscribe(grpc::CallbackServerContext* context) {
+  return new SubscribeReactor(registry_, quantum_m_, context->peer());
 }
 
 }  // namespace hapsim::service

@@ -21,6 +21,7 @@ struct ViewerOptions {
   std::string session = "demo";
   std::string name = "hapsim-viewer";
   double max_rate_hz = 0.0;          // 0: the server's frame rate
+  std::uint32_t ack_window = 2;      // unacknowledged frames allowed (0: no app-level flow control)
   std::uint64_t max_frames = 0;      // stop after this many frames (0: no limit)
   double max_seconds = 0.0;          // stop after this long (0: no limit)
   double connect_timeout_s = 10.0;

@@ -1,8 +1,10 @@
 // One open Subscribe stream as the frame pump sees it. The pump offers each
 // new snapshot; the link sends it only when no write is in flight and the
 // viewer's rate allows — otherwise the snapshot is skipped and a later one
-// (newest state wins) goes out instead. So a slow viewer never slows the
-// physics and never builds a backlog.
+// (newest state wins) goes out instead. With an ack window, "no write in
+// flight" also means "fewer than ack_window frames the viewer has not
+// acknowledged", so the backlog is bounded end to end, not only up to the
+// HTTP/2 buffers. A slow viewer never slows the physics and never lags far.
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -26,7 +28,8 @@ class ViewerLink {
     virtual void FinishStream(const grpc::Status& status) = 0;
   };
 
-  ViewerLink(std::string name, double max_rate_hz, double quantum_m);
+  // ack_window: frames that may be unacknowledged at once (0: no limit).
+  ViewerLink(std::string name, double max_rate_hz, double quantum_m, std::uint32_t ack_window);
 
   // Frame pump: send this snapshot if the stream is free and due.
   void Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns);
@@ -37,6 +40,7 @@ class ViewerLink {
   void Attach(Stream* stream);
   void OnWriteDone(bool ok);
   void OnCancelled();
+  void OnAck(std::uint64_t applied_seq);
   void Detach();  // OnDone: the stream object is about to be destroyed
 
   const std::string& name() const { return name_; }
@@ -52,6 +56,8 @@ class ViewerLink {
   bool finished_ = false;
   std::string name_;
   std::int64_t min_interval_ns_ = 0;
+  std::uint32_t ack_window_ = 0;
+  std::uint64_t acked_frames_ = 0;  // frames acknowledged: seqs [0, acked_frames_)
   std::int64_t last_send_ns_ = 0;
   std::uint64_t last_snapshot_id_ = 0;
   StreamEncoderState encoder_;

@@ -1,5 +1,6 @@
-// gRPC ViewerService: Subscribe(session) -> stream Frame, on the callback API
-// with one small reactor per stream and at most one write in flight.
+// gRPC ViewerService: Subscribe(stream ViewerMessage) -> stream Frame, on the
+// callback API with one small reactor per stream and at most one write in
+// flight. The first message names the session; the rest are acks.
 #pragma once
 #include "hapsim/service/session_registry.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
@@ -10,8 +11,8 @@ class ViewerServiceImpl final : public hapsim::v1::ViewerService::CallbackServic
  public:
   ViewerServiceImpl(SessionRegistry* registry, double quantum_m) : registry_(registry), quantum_m_(quantum_m) {}
 
-  grpc::ServerWriteReactor<hapsim::v1::Frame>* Subscribe(grpc::CallbackServerContext* context,
-                                                         const hapsim::v1::SubscribeRequest* request) override;
+  grpc::ServerBidiReactor<hapsim::v1::ViewerMessage, hapsim::v1::Frame>* Subscribe(
+      grpc::CallbackServerContext* context) override;
 
  private:
   SessionRegistry* registry_;
