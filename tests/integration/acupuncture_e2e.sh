@@ -5,12 +5,8 @@
 # the three punctures appear in order in the viewer's frames and as force
 # drops at the same depths in the bridge's force trace.
 set -euo pipefail
-bin=${1:?usage: acupuncture_e2e.sh BIN_DIR WORK_DIR}
-work=${2:?usage: acupuncture_e2e.sh BIN_DIR WORK_DIR}
-here=$(cd "$(dirname "$0")" && pwd)
-rm -rf "$work" && mkdir -p "$work" && cd "$work"
 session=acu
-source "$here/lib.sh"
+source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session:acupuncture"
 
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj >viewer.out 2>viewer.log &

@@ -8,12 +8,8 @@
 #  - every process exits 0 on SIGTERM.
 # Bounded: every wait has a time limit; nothing leaves 127.0.0.1.
 set -euo pipefail
-bin=${1:?usage: end_to_end.sh BIN_DIR WORK_DIR}
-work=${2:?usage: end_to_end.sh BIN_DIR WORK_DIR}
-here=$(cd "$(dirname "$0")" && pwd)
-rm -rf "$work" && mkdir -p "$work" && cd "$work"
 session=e2e
-source "$here/lib.sh"
+source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session"
 
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \

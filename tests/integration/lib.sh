@@ -1,6 +1,11 @@
-# Shared by the end-to-end scripts: start a server on a free loopback port
-# and a test-only DDS domain; kill leftovers on exit. Source, then:
-#   start_server SESSIONS [more server flags]   -> sets $addr, $server, $domain
+# Shared by the end-to-end scripts. Source it with the script's arguments
+# (BIN_DIR WORK_DIR): it sets $bin, $work, $here, starts from an empty work
+# directory, picks a test-only DDS domain and kills leftovers on exit. Then:
+#   start_server SESSIONS [more server flags]   -> sets $addr, $server
+bin=${1:?usage: $0 BIN_DIR WORK_DIR}
+work=${2:?usage: $0 BIN_DIR WORK_DIR}
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
 domain=$((150 + RANDOM % 60))
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }

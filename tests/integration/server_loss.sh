@@ -4,12 +4,8 @@
 # zero within its disarm age (100 ms) and keep it there; the bridge itself
 # keeps running and exits 0 on SIGTERM. check_server_loss.py reads the trace.
 set -euo pipefail
-bin=${1:?usage: server_loss.sh BIN_DIR WORK_DIR}
-work=${2:?usage: server_loss.sh BIN_DIR WORK_DIR}
-here=$(cd "$(dirname "$0")" && pwd)
-rm -rf "$work" && mkdir -p "$work" && cd "$work"
 session=loss
-source "$here/lib.sh"
+source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session"
 
 # Press 4 mm into the block and hold there for 30 s.
