@@ -5,14 +5,6 @@
 
 namespace hapsim::service {
 
-std::int32_t QuantiseCoordinate(double x_m, double quantum_m) {
-  const double q = std::nearbyint(x_m / quantum_m);
-  constexpr double kMax = std::numeric_limits<std::int32_t>::max();
-  if (!(q < kMax)) return std::numeric_limits<std::int32_t>::max();  // also NaN
-  if (q < -kMax) return -std::numeric_limits<std::int32_t>::max();
-  return static_cast<std::int32_t>(q);
-}
-
 namespace {
 
 void FillCommon(const SceneSnapshot& s, hapsim::v1::Frame* frame) {

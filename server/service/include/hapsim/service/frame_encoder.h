@@ -5,7 +5,9 @@
 // sent, skipped (coalesced) snapshots never break the chain and seqs stay
 // contiguous.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "hapsim/service/scene_snapshot.h"
@@ -22,8 +24,15 @@ struct StreamEncoderState {
   std::uint64_t events_sent = 0;     // SceneSnapshot::events_total already sent
 };
 
-// Quantise a coordinate [m] to the nearest multiple of quantum_m (saturating).
-std::int32_t QuantiseCoordinate(double x_m, double quantum_m);
+// Quantise a coordinate [m] to the nearest multiple of quantum_m (saturating;
+// NaN maps to the maximum). Inline: it runs for every coordinate of every frame.
+inline std::int32_t QuantiseCoordinate(double x_m, double quantum_m) {
+  const double q = std::nearbyint(x_m / quantum_m);
+  constexpr double kMax = std::numeric_limits<std::int32_t>::max();
+  if (!(q < kMax)) return std::numeric_limits<std::int32_t>::max();
+  if (q < -kMax) return -std::numeric_limits<std::int32_t>::max();
+  return static_cast<std::int32_t>(q);
+}
 
 // Fills *frame (cleared first) and advances *state.
 void EncodeFrame(const SceneSnapshot& snapshot, StreamEncoderState* state, hapsim::v1::Frame* frame);
