@@ -178,6 +178,22 @@ TEST(TissueBlock, AbsurdToolInputsNeverBlowUp) {
   EXPECT_EQ(scene.Status().numerical_resets, 0u);
 }
 
+TEST(TissueBlock, BlowUpIsCountedAndTheSceneResetsItself) {
+  // A guard bound far below what a press produces stands in for a blow-up.
+  TissueBlockParams p;
+  p.max_kinetic_energy_J = 1e-12;
+  TissueBlockScene scene(p);
+  Hold(scene, ToolAt(0, 0, -0.004), 0.05);
+  EXPECT_GT(scene.Status().numerical_resets, 0u);
+  EXPECT_EQ(scene.Status().numerical_resets, scene.State().blowups);
+  bool reset_logged = false;
+  for (const SceneEvent& e : scene.Events()) reset_logged = reset_logged || e.kind == SceneEventKind::kReset;
+  EXPECT_TRUE(reset_logged);
+  EXPECT_TRUE(scene.Vertices_m().allFinite());
+  // After each reset the surface restarts from rest: it never sinks far.
+  EXPECT_GT(scene.Vertices_m().row(2).minCoeff(), -0.004);
+}
+
 TEST(TissueBlock, EveryIntegratorGivesTheSameStaticPressForce) {
   // Statics do not depend on the integrator: all settle to one equilibrium.
   TissueBlockParams ref_params;

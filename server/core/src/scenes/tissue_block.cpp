@@ -20,8 +20,6 @@ constexpr double kCriticalStepSafety = 0.9;
 constexpr int kMaxSubsteps = 1000;
 // Tool speed used by the contact damper is clamped to this [m/s].
 constexpr double kMaxToolSpeed_m_per_s = 10.0;
-// Kinetic energy the patch never reaches under any sane press [J].
-constexpr double kMaxKineticEnergy_J = 10.0;
 
 [[noreturn]] void Bad(const std::string& key, const std::string& why) {
   throw std::invalid_argument("tissue_block: parameter '" + key + "' " + why);
@@ -78,6 +76,8 @@ TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& pa
     } else if (key == "local_update_hops") {
       if (!(v >= 0 && v <= 1000 && std::floor(v) == v)) Bad(key, "must be an integer in [0, 1000]");
       p.local_update_hops = static_cast<int>(v);
+    } else if (key == "max_kinetic_energy_J") {
+      p.max_kinetic_energy_J = Positive(key, v);
     } else if (key == "midpoint_alpha") {
       if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) Bad(key, "must be in (0, 1]");
       p.integrator.alpha = v;
@@ -135,7 +135,7 @@ MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
   d.anchor_point_W_m.resize(3, static_cast<Eigen::Index>(d.anchor_node.size()));
   for (std::size_t a = 0; a < d.anchor_node.size(); ++a)
     d.anchor_point_W_m.col(static_cast<Eigen::Index>(a)) = d.x0_m.col(d.anchor_node[a]);
-  d.max_kinetic_energy_J = kMaxKineticEnergy_J;
+  d.max_kinetic_energy_J = p.max_kinetic_energy_J;
   return d;
 }
 
@@ -239,6 +239,8 @@ double TissueBlockScene::LocalSurfaceStiffness_N_per_m(const Contact& c) const {
 void TissueBlockScene::UpdateOutputs(const ToolInput& tool, const Contact& c) {
   const Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();
   const double force_N = c.push_N;
+  // damping_Ns_per_m stays 0: force_N already contains the contact damper at
+  // this tick, and the bridge adds its own coupling damping.
   tool_force_W_N_ = force_N * n_W;
   force_model_ = LocalForceModel{};
   if (c.active) {

@@ -23,7 +23,7 @@
 //   Euler, 2 improved Euler, 3 midpoint-averaging, 4 RK4, 5 backward Euler),
 //   midpoint_alpha, local_update_hops (0 = integrate every node; N > 0 =
 //   while in contact, integrate only nodes within N spring hops of the
-//   contact, the gingival paper's local update).
+//   contact, the gingival paper's local update), max_kinetic_energy_J.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -62,6 +62,9 @@ struct TissueBlockParams {
   double dt_s = 1e-3;                       // largest internal step; Step() sub-steps to it
   IntegratorChoice integrator{};            // default symplectic Euler
   int local_update_hops = 0;                // 0 = full update every step
+  // Stability guard: a step above this kinetic energy counts as a blow-up
+  // and resets the scene. The patch never gets near 10 J under a hand.
+  double max_kinetic_energy_J = 10.0;
 };
 
 // The scene's mass-spring grid as a plain definition (also used by the
