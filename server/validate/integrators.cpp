@@ -14,6 +14,7 @@
 #include "hapsim/core/integrators/paper_problems.h"
 #include "hapsim/core/integrators/particle_steppers.h"
 #include "hapsim/core/integrators/stability.h"
+#include "number_format.h"
 #include "validate_command.h"
 
 namespace hapsim::validate {
@@ -42,18 +43,6 @@ void WriteRow(std::ostream& csv, const CsvRow& r) {
                 std::isnan(r.alpha) ? "" : std::to_string(r.alpha).substr(0, 5).c_str(), r.h, r.t, r.value,
                 r.reference, std::abs(r.value - r.reference));
   csv << line;
-}
-
-// Scientific with `digits` decimals, or fixed with `decimals`.
-std::string Sci(double v, int digits = 3) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*e", digits, v);
-  return b;
-}
-std::string Fixed(double v, int decimals) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
 }
 
 // A paper claim, whether it came out true, and what docs/validation.md says

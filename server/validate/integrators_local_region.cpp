@@ -12,6 +12,7 @@
 #include "hapsim/core/integrators/msm_step.h"
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/scenes/tissue_block.h"
+#include "number_format.h"
 
 namespace hapsim::validate {
 namespace {
@@ -47,18 +48,6 @@ Run Press(const core::MsmModel& model, const core::LocalRegion* region, std::int
     best.state = std::move(state);
   }
   return best;
-}
-
-// Scientific with `digits` decimals, or fixed with `decimals`.
-std::string Sci(double v, int digits = 3) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*e", digits, v);
-  return b;
-}
-std::string Fixed(double v, int decimals) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
 }
 
 }  // namespace
