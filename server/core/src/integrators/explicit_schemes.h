@@ -7,6 +7,27 @@
 
 namespace hapsim::core::detail {
 
+// The last node pass every explicit scheme ends with: for each active node
+// and axis, the total force at (xa, va) [N] goes to update(e, i, force_N),
+// which writes x[e] and v[e] by the scheme's rule; then the stability guard
+// accumulates the new state. One loop, so the schemes differ only in their
+// update line.
+template <class R, class Update>
+inline void FinalNodePass(const NodeTerms& t, double* __restrict f, const double* xa, const double* va,
+                          const double* x, const double* v, R r, Guard& g, Update update) {
+  for (std::int32_t k = 0; k < r.active.size(); ++k) {
+    const std::int32_t i = r.active[k];
+    double v2 = 0.0;
+    for (int c = 0; c < 3; ++c) {
+      const std::int32_t e = 3 * i + c;
+      update(e, i, t.Take(f, xa, va, i, c));
+      g.position_sum += x[e];
+      v2 += v[e] * v[e];
+    }
+    g.mass_v2 += t.mass[i] * v2;
+  }
+}
+
 template <class R>
 void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
   double* __restrict x = s.x_m.data();
@@ -14,19 +35,11 @@ void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
   SpringPass(m, x, v, f, r);
-  for (std::int32_t k = 0; k < r.active.size(); ++k) {
-    const std::int32_t i = r.active[k];
-    double v2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t e = 3 * i + c;
-      const double a = t.inv_mass[i] * t.Take(f, x, v, i, c);
-      x[e] += h * v[e];
-      v[e] += h * a;
-      g.position_sum += x[e];
-      v2 += v[e] * v[e];
-    }
-    g.mass_v2 += t.mass[i] * v2;
-  }
+  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    const double a = t.inv_mass[i] * force_N;
+    x[e] += h * v[e];
+    v[e] += h * a;
+  });
 }
 
 template <class R>
@@ -36,18 +49,10 @@ void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws,
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
   SpringPass(m, x, v, f, r);
-  for (std::int32_t k = 0; k < r.active.size(); ++k) {
-    const std::int32_t i = r.active[k];
-    double v2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t e = 3 * i + c;
-      v[e] += h * t.inv_mass[i] * t.Take(f, x, v, i, c);
-      x[e] += h * v[e];
-      g.position_sum += x[e];
-      v2 += v[e] * v[e];
-    }
-    g.mass_v2 += t.mass[i] * v2;
-  }
+  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    v[e] += h * t.inv_mass[i] * force_N;
+    x[e] += h * v[e];
+  });
 }
 
 template <class R>
@@ -57,19 +62,11 @@ void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
   SpringPass(m, x, v, f, r);
-  for (std::int32_t k = 0; k < r.active.size(); ++k) {
-    const std::int32_t i = r.active[k];
-    double v2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t e = 3 * i + c;
-      const double v1 = v[e] + h * t.inv_mass[i] * t.Take(f, x, v, i, c);
-      x[e] += 0.5 * h * (v[e] + v1);
-      v[e] = v1;
-      g.position_sum += x[e];
-      v2 += v1 * v1;
-    }
-    g.mass_v2 += t.mass[i] * v2;
-  }
+  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    const double v1 = v[e] + h * t.inv_mass[i] * force_N;
+    x[e] += 0.5 * h * (v[e] + v1);
+    v[e] = v1;
+  });
 }
 
 template <class R>
@@ -92,19 +89,11 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
     }
   }
   SpringPass(m, xs, vs, f, r);
-  for (std::int32_t k = 0; k < r.active.size(); ++k) {
-    const std::int32_t i = r.active[k];
-    double v2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t e = 3 * i + c;
-      const double v1 = v[e] + h * t.inv_mass[i] * t.Take(f, xs, vs, i, c);
-      x[e] += 0.5 * h * (v[e] + v1);
-      v[e] = v1;
-      g.position_sum += x[e];
-      v2 += v1 * v1;
-    }
-    g.mass_v2 += t.mass[i] * v2;
-  }
+  FinalNodePass(t, f, xs, vs, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    const double v1 = v[e] + h * t.inv_mass[i] * force_N;
+    x[e] += 0.5 * h * (v[e] + v1);
+    v[e] = v1;
+  });
 }
 
 template <class R>
@@ -145,19 +134,11 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
     }
   }
   SpringPass(m, xs, vs, f, r);  // k4
-  for (std::int32_t k = 0; k < r.active.size(); ++k) {
-    const std::int32_t i = r.active[k];
-    double v2 = 0.0;
-    for (int c = 0; c < 3; ++c) {
-      const std::int32_t e = 3 * i + c;
-      const double a4 = t.inv_mass[i] * t.Take(f, xs, vs, i, c);
-      x[e] += h / 6.0 * (sx[e] + vs[e]);
-      v[e] += h / 6.0 * (sv[e] + a4);
-      g.position_sum += x[e];
-      v2 += v[e] * v[e];
-    }
-    g.mass_v2 += t.mass[i] * v2;
-  }
+  FinalNodePass(t, f, xs, vs, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    const double a4 = t.inv_mass[i] * force_N;
+    x[e] += h / 6.0 * (sx[e] + vs[e]);
+    v[e] += h / 6.0 * (sv[e] + a4);
+  });
 }
 
 }  // namespace hapsim::core::detail
