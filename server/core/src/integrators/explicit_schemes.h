@@ -28,6 +28,16 @@ inline void FinalNodePass(const NodeTerms& t, double* __restrict f, const double
   }
 }
 
+// v' = v + h a, x' = x + h/2 (v + v'): improved Euler's update, which is
+// also midpoint-averaging's last stage (with the force taken at its midpoint).
+inline auto TrapezoidUpdate(double* __restrict x, double* __restrict v, const NodeTerms& t, double h) {
+  return [x, v, &t, h](std::int32_t e, std::int32_t i, double force_N) {
+    const double v1 = v[e] + h * t.inv_mass[i] * force_N;
+    x[e] += 0.5 * h * (v[e] + v1);
+    v[e] = v1;
+  };
+}
+
 template <class R>
 void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
   double* __restrict x = s.x_m.data();
@@ -62,11 +72,7 @@ void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
   SpringPass(m, x, v, f, r);
-  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-    const double v1 = v[e] + h * t.inv_mass[i] * force_N;
-    x[e] += 0.5 * h * (v[e] + v1);
-    v[e] = v1;
-  });
+  FinalNodePass(t, f, x, v, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
 template <class R>
@@ -89,11 +95,7 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
     }
   }
   SpringPass(m, xs, vs, f, r);
-  FinalNodePass(t, f, xs, vs, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-    const double v1 = v[e] + h * t.inv_mass[i] * force_N;
-    x[e] += 0.5 * h * (v[e] + v1);
-    v[e] = v1;
-  });
+  FinalNodePass(t, f, xs, vs, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
 template <class R>
