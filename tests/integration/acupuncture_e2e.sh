@@ -19,10 +19,8 @@ sleep 0.3
 bridge=$!; pids+=("$bridge")
 wait "$bridge" && bridge_rc=0 || bridge_rc=$?
 sleep 0.5
-kill -TERM "$viewer"
-wait "$viewer" && viewer_rc=0 || viewer_rc=$?
-kill -TERM "$server"
-wait "$server" && server_rc=0 || server_rc=$?
+stop_process viewer_rc "$viewer"
+stop_process server_rc "$server"
 pids=()
 echo "exit codes: server $server_rc, bridge $bridge_rc, viewer $viewer_rc"
 cat bridge.out viewer.out server.out

@@ -8,14 +8,9 @@ import csv
 import re
 import sys
 
+from checks import check, finish
+
 work = sys.argv[1]
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 viewer = open(f"{work}/viewer.out").read()
@@ -67,5 +62,4 @@ shrinking = all(force(b) <= force(a) + 1e-3 for a, b in zip(samples, samples[1:]
 check(len(samples) > 5 and shrinking, "withdrawal force shrinks as the needle comes out")
 outside = [force(r) for r in rows if r["phase"] == "withdraw" and float(r["z_m"]) > 0.5e-3]
 check(bool(outside) and max(outside) < 1e-6, f"no force once the tip is out (max {max(outside, default=1):.1e} N)")
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

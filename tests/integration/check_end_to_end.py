@@ -3,14 +3,9 @@ import csv
 import re
 import sys
 
+from checks import check, finish
+
 work, server_rc, bridge_rc, viewer_rc = sys.argv[1], *map(int, sys.argv[2:5])
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 def read(name):
@@ -63,5 +58,4 @@ check(m is not None and int(m.group(1)) == 1 and int(m.group(4)) == 1,
 m = re.search(r"keyframes (\d+)", v)
 check(m is not None and int(m.group(1)) == 2, "exactly two keyframes: the first and the resync")
 
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

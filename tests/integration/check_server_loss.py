@@ -5,14 +5,9 @@ import csv
 import re
 import sys
 
+from checks import check, finish
+
 work = sys.argv[1]
-failures = []
-
-
-def check(ok, what):
-    print(("ok   " if ok else "FAIL ") + what)
-    if not ok:
-        failures.append(what)
 
 
 rows = list(csv.DictReader(open(f"{work}/trace.csv")))
@@ -37,5 +32,4 @@ if zero_at is not None:
 check(rows[-1]["watchdog"] == "disarmed", f"watchdog ends disarmed (got {rows[-1]['watchdog']})")
 m = re.search(r"disarms (\d+)", open(f"{work}/bridge.out").read())
 check(m is not None and int(m.group(1)) == 1, "the watchdog disarmed exactly once")
-print(f"{len(failures)} failed")
-sys.exit(1 if failures else 0)
+finish()

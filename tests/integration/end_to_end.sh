@@ -21,8 +21,7 @@ viewer=$!; pids+=("$viewer")
     --start-height-mm 5 --depth-mm 4 --speed-mm-s 20 --hold-s 0.3 --trace trace.csv >bridge.out 2>bridge.log &
 bridge=$!; pids+=("$bridge")
 sleep 3.2
-kill -TERM "$bridge"
-wait "$bridge" && bridge_rc=0 || bridge_rc=$?
+stop_process bridge_rc "$bridge"
 
 # A second device run holds the needle 4 mm deep; freeze the session there
 # and take the server's full-precision copy of the deformed mesh.
@@ -38,10 +37,8 @@ sleep 0.3
 kill -TERM "$bridge2"
 wait "$bridge2" || true
 
-kill -TERM "$viewer"
-wait "$viewer" && viewer_rc=0 || viewer_rc=$?
-kill -TERM "$server"
-wait "$server" && server_rc=0 || server_rc=$?
+stop_process viewer_rc "$viewer"
+stop_process server_rc "$server"
 pids=()
 
 echo "exit codes: server $server_rc, bridge $bridge_rc, viewer $viewer_rc"

@@ -21,3 +21,11 @@ start_server() {
   [ -s port ] || { echo "server did not start"; cat server.log; exit 1; }
   addr=127.0.0.1:$(cat port)
 }
+
+# stop_process VAR PID: SIGTERM the process, wait for it, store its exit code in VAR.
+stop_process() {
+  kill -TERM "$2" 2>/dev/null || true
+  local rc=0
+  wait "$2" || rc=$?
+  printf -v "$1" '%s' "$rc"
+}

@@ -16,8 +16,7 @@ sleep 1.0
 kill -KILL "$server"
 wait "$server" 2>/dev/null || true
 sleep 0.6
-kill -TERM "$bridge"
-wait "$bridge" && bridge_rc=0 || bridge_rc=$?
+stop_process bridge_rc "$bridge"
 pids=()
 cat bridge.out
 [ "$bridge_rc" -eq 0 ] || { echo "bridge exited $bridge_rc"; exit 1; }
