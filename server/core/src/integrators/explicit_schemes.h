@@ -3,6 +3,8 @@
 // Included only by msm_step.cpp.
 #pragma once
 #include "hapsim/core/integrators/msm_step.h"
+#include "fused_sweep.h"
+#include "node_pass_avx512.h"
 #include "step_common.h"
 
 namespace hapsim::core::detail {
@@ -38,17 +40,32 @@ inline auto TrapezoidUpdate(double* __restrict x, double* __restrict v, const No
   };
 }
 
+// A one-evaluation scheme's step: spring forces at (x, v), then
+// node_pass(ranges) over the active nodes — fused chunk by chunk on the full
+// update (fused_sweep.h), in two passes on the local one.
+template <class R, class NodePass>
+void OneEvaluation(const MsmModel& m, MsmWorkspace& ws, const double* x, const double* v, double* f, R r,
+                   NodePass node_pass) {
+  if constexpr (R::local) {
+    SpringPass(m, ws, x, v, f, r);
+    node_pass(r);
+  } else {
+    SpringsThenNodes(m, ws, x, v, f, node_pass);
+  }
+}
+
 template <class R>
 void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
   double* __restrict x = s.x_m.data();
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, x, v, f, r);
-  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-    const double a = t.inv_mass[i] * force_N;
-    x[e] += h * v[e];
-    v[e] += h * a;
+  OneEvaluation(m, ws, x, v, f, r, [&](auto nodes) {
+    FinalNodePass(t, f, x, v, x, v, nodes, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+      const double a = t.inv_mass[i] * force_N;
+      x[e] += h * v[e];
+      v[e] += h * a;
+    });
   });
 }
 
@@ -58,10 +75,14 @@ void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws,
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, x, v, f, r);
-  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-    v[e] += h * t.inv_mass[i] * force_N;
-    x[e] += h * v[e];
+  OneEvaluation(m, ws, x, v, f, r, [&](auto nodes) {
+#if HAPSIM_MSM_AVX512_KERNEL
+    if (UsesAvx512(ws)) return SymplecticNodePassAvx512(t, f, x, v, h, nodes, g);
+#endif
+    FinalNodePass(t, f, x, v, x, v, nodes, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+      v[e] += h * t.inv_mass[i] * force_N;
+      x[e] += h * v[e];
+    });
   });
 }
 
@@ -71,8 +92,8 @@ void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, x, v, f, r);
-  FinalNodePass(t, f, x, v, x, v, r, g, TrapezoidUpdate(x, v, t, h));
+  OneEvaluation(m, ws, x, v, f, r,
+                [&](auto nodes) { FinalNodePass(t, f, x, v, x, v, nodes, g, TrapezoidUpdate(x, v, t, h)); });
 }
 
 template <class R>
@@ -84,7 +105,7 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
   double* __restrict vs = ws.vs.data();
   const NodeTerms t(m, s);
   const double ah = alpha * h;
-  SpringPass(m, x, v, f, r);
+  SpringPass(m, ws, x, v, f, r);
   CopyTouched(x, v, xs, vs, r);
   for (std::int32_t k = 0; k < r.active.size(); ++k) {
     const std::int32_t i = r.active[k];
@@ -94,7 +115,7 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
       xs[e] = x[e] + ah * vs[e];
     }
   }
-  SpringPass(m, xs, vs, f, r);
+  SpringPass(m, ws, xs, vs, f, r);
   FinalNodePass(t, f, xs, vs, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
@@ -108,7 +129,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
   double* __restrict sx = ws.sum_x.data();
   double* __restrict sv = ws.sum_v.data();
   const NodeTerms t(m, s);
-  SpringPass(m, x, v, f, r);
+  SpringPass(m, ws, x, v, f, r);
   CopyTouched(x, v, xs, vs, r);
   for (std::int32_t k = 0; k < r.active.size(); ++k) {  // k1 = (v, a(x, v))
     const std::int32_t i = r.active[k];
@@ -122,7 +143,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
     }
   }
   for (const double stage_h : {0.5 * h, h}) {  // k2, k3
-    SpringPass(m, xs, vs, f, r);
+    SpringPass(m, ws, xs, vs, f, r);
     for (std::int32_t k = 0; k < r.active.size(); ++k) {
       const std::int32_t i = r.active[k];
       for (int c = 0; c < 3; ++c) {
@@ -135,7 +156,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
       }
     }
   }
-  SpringPass(m, xs, vs, f, r);  // k4
+  SpringPass(m, ws, xs, vs, f, r);  // k4
   FinalNodePass(t, f, xs, vs, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
     const double a4 = t.inv_mass[i] * force_N;
     x[e] += h / 6.0 * (sx[e] + vs[e]);

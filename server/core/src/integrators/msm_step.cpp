@@ -1,6 +1,6 @@
 // StepMsm / StepMsmLocal: dispatch to the scheme (explicit_schemes.h,
 // backward_euler.h), each written once and templated on the node/spring
-// index ranges (step_common.h): AllRange for the full update (dense loops)
+// index ranges (step_common.h): DenseRange for the full update (dense loops)
 // and ListRange for the local update region; then the stability guard.
 //
 // Memory traffic is what limits a step on large meshes, so each force
@@ -19,16 +19,21 @@
 
 namespace hapsim::core {
 
-using detail::AllRange;
+using detail::DenseRange;
 using detail::ListRange;
 using detail::Ranges;
 
 MsmWorkspace MakeMsmWorkspace(const MsmModel& model) {
   MsmWorkspace ws;
   const Eigen::Index n = model.num_nodes;
-  for (Eigen::Matrix3Xd* m : {&ws.f, &ws.xs, &ws.vs, &ws.sum_x, &ws.sum_v, &ws.rhs,
+  ws.f.assign(kSpringForceStride * static_cast<std::size_t>(n), 0.0);  // must start at zero (msm_kernels.h)
+  for (Eigen::Matrix3Xd* m : {&ws.xs, &ws.vs, &ws.sum_x, &ws.sum_v, &ws.rhs,
                               &ws.dv, &ws.r, &ws.p, &ws.ap})
-    *m = Eigen::Matrix3Xd::Zero(3, n);  // f must start at zero (see msm_kernels.h)
+    *m = Eigen::Matrix3Xd::Zero(3, n);
+  const std::size_t chunks = (static_cast<std::size_t>(model.spring_capacity) + kFusedChunkSprings - 1) /
+                             static_cast<std::size_t>(kFusedChunkSprings);
+  ws.fused_node_end.assign(chunks, 0);
+  ws.node_last_spring.assign(static_cast<std::size_t>(n), -1);
   ws.spring_u.assign(3 * static_cast<std::size_t>(model.spring_capacity), 0.0);
   ws.spring_geo.assign(static_cast<std::size_t>(model.spring_capacity), 0.0);
   return ws;
@@ -49,7 +54,7 @@ StepReport StepWith(const MsmModel& m, MsmState& s, double h, IntegratorChoice m
     case IntegratorKind::kBackwardEuler: report.cg_iterations = detail::BackwardEuler(m, s, h, ws, r, g); break;
   }
   // Keep the accumulator all-zero for a following full step.
-  if constexpr (R::local) detail::ZeroNodes(ws.f.data(), r.touched);
+  if constexpr (R::local) detail::ZeroAccumulator(ws.f.data(), r.touched);
   s.t_s += h;
   report.kinetic_energy_J = 0.5 * g.mass_v2;
   report.non_finite = !std::isfinite(g.position_sum) || !std::isfinite(g.mass_v2);
@@ -62,9 +67,9 @@ StepReport StepWith(const MsmModel& m, MsmState& s, double h, IntegratorChoice m
 }  // namespace
 
 StepReport StepMsm(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method, MsmWorkspace& ws) {
-  const AllRange nodes{model.num_nodes};
+  const DenseRange nodes{model.num_nodes};
   return StepWith(model, state, dt_s, method, ws,
-                  Ranges<AllRange, AllRange, false>{nodes, nodes, AllRange{model.NumSprings()}});
+                  Ranges<DenseRange, DenseRange, false>{nodes, nodes, DenseRange{model.NumSprings()}});
 }
 
 StepReport StepMsmLocal(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method,

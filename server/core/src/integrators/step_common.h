@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "../msm/msm_kernels.h"
+#include "hapsim/core/integrators/msm_step.h"
 #include "hapsim/core/msm/msm_model.h"
 
 namespace hapsim::core::detail {
@@ -28,13 +29,25 @@ void ZeroNodes(double* f, Nodes nodes) {
   }
 }
 
-// Spring forces at (x, v) into f. Full update: f is all zero here (every
-// consumer resets what it reads). Local update: frozen neighbours' entries
-// may be stale, so the touched set is cleared first.
+// Clears the spring-force accumulator entries of `nodes`.
+template <class Nodes>
+void ZeroAccumulator(double* f, Nodes nodes) {
+  for (std::int32_t k = 0; k < nodes.size(); ++k)
+    for (int c = 0; c < kSpringForceStride; ++c) f[kSpringForceStride * nodes[k] + c] = 0.0;
+}
+
+// Whether this step runs the AVX-512 kernels (chosen and supported).
+inline bool UsesAvx512(const MsmWorkspace& ws) {
+  return ws.spring_kernel == SpringKernel::kAvx512 && SpringKernelSupported(SpringKernel::kAvx512);
+}
+
+// Spring forces at (x, v) into the accumulator ws.f. Full update: f is all
+// zero here (every consumer resets what it reads). Local update: frozen
+// neighbours' entries may be stale, so the touched set is cleared first.
 template <class R>
-void SpringPass(const MsmModel& m, const double* x, const double* v, double* f, R r) {
-  if constexpr (R::local) ZeroNodes(f, r.touched);
-  detail::SpringForces(m, x, v, f, r.springs);
+void SpringPass(const MsmModel& m, const MsmWorkspace& ws, const double* x, const double* v, double* f, R r) {
+  if constexpr (R::local) ZeroAccumulator(f, r.touched);
+  detail::SpringForces(m, ws.spring_kernel, x, v, f, r.springs);
 }
 
 // Stage buffers start as a copy of the frozen neighbours' state (local

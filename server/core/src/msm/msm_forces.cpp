@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include "hapsim/core/msm/aligned_allocator.h"
 
 #include "msm_kernels.h"
 
@@ -10,9 +13,10 @@ namespace hapsim::core {
 void ComputeForces(const MsmModel& model, const MsmState& state, const Eigen::Matrix3Xd& x_m,
                    const Eigen::Matrix3Xd& v_m_per_s, Eigen::Matrix3Xd& f_N) {
   // Same two parts as the step: spring scatter, then the per-node terms.
-  Eigen::Matrix3Xd spring_f_N = Eigen::Matrix3Xd::Zero(3, model.num_nodes);
-  detail::SpringForces(model, x_m.data(), v_m_per_s.data(), spring_f_N.data(),
-                       detail::AllRange{model.NumSprings()});
+  std::vector<double, AlignedAllocator<double, 64>> spring_f_N(
+      kSpringForceStride * static_cast<std::size_t>(model.num_nodes), 0.0);
+  detail::SpringForces(model, BestSpringKernel(), x_m.data(), v_m_per_s.data(), spring_f_N.data(),
+                       detail::DenseRange{model.NumSprings()});
   const detail::NodeTerms terms(model, state);
   f_N.resize(3, model.num_nodes);
   for (std::int32_t i = 0; i < model.num_nodes; ++i)

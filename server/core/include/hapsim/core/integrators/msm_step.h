@@ -14,22 +14,47 @@
 #include <Eigen/Core>
 
 #include "hapsim/core/integrators/integrator_kind.h"
+#include "hapsim/core/msm/aligned_allocator.h"
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"
+#include "hapsim/core/msm/spring_kernel.h"
 
 namespace hapsim::core {
+
+// Springs per chunk of the fused sweep (MsmWorkspace::fused_sweep): 32 KB
+// of spring data, a few grid rows of nodes.
+inline constexpr std::int32_t kFusedChunkSprings = 1024;
 
 // Scratch memory for every integrator, sized from the model's node count and
 // spring capacity so cutting (AddSpring within capacity) never invalidates it.
 struct MsmWorkspace {
-  Eigen::Matrix3Xd f;             // spring-force accumulator [N] (3 x n), zero between steps
+  // Spring-force accumulator [N], kSpringForceStride (4) doubles per node:
+  // x, y, z and a pad lane (never read), so one node's force is one aligned
+  // 32-byte vector. All zero between steps.
+  std::vector<double, AlignedAllocator<double, 64>> f;
   Eigen::Matrix3Xd xs, vs;        // stage state (3 x n)
   Eigen::Matrix3Xd sum_x, sum_v;  // RK4 weighted stage sums (3 x n)
   // Backward Euler / CG (3 x n each).
   Eigen::Matrix3Xd rhs, dv, r, p, ap;
   std::vector<double> spring_u;    // unit direction per spring (3 x capacity)
   std::vector<double> spring_geo;  // clamped k (1 - L0/l) per spring (capacity)
+  // Spring-force kernel; any supported choice gives bit-identical results.
+  // An unsupported choice falls back to kPortable.
+  SpringKernel spring_kernel = BestSpringKernel();
+  // Fused sweep (full update of the one-evaluation schemes: explicit,
+  // symplectic and improved Euler): springs run in chunks of
+  // kFusedChunkSprings in their model order; after chunk c, nodes
+  // [previous end, fused_node_end[c]) — which no later spring touches — are
+  // integrated while their data is still in cache. Bit-identical to a spring
+  // pass followed by a node pass (false = that, kept as the reference).
+  // The schedule is rebuilt in the step when model.topology_revision
+  // changes.
+  bool fused_sweep = true;
+  std::vector<std::int32_t> fused_node_end;    // per chunk (capacity rounded up)
+  std::vector<std::int32_t> node_last_spring;  // scratch (n)
+  std::uint64_t fused_revision = 0;
+  std::int32_t fused_num_springs = -1;         // -1: no schedule yet
   // Implicit solver controls.
   int cg_max_iterations = 200;
   double cg_relative_tolerance = 1e-10;
