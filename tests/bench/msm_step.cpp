@@ -14,8 +14,9 @@
 // scatters of f hit cache because grid neighbours are close in memory):
 //   springs: i, j (2 x 4 B) + rest, k, c (3 x 8 B)                = 32 B
 //   nodes:   read x, v, f_ext, f_residual (4 x 24 B), mass, damping,
-//            1/m (3 x 8 B); write f and read it back (2 x 24 B);
-//            write x, v (2 x 24 B)                                = 216 B
+//            1/m (3 x 8 B); write the 32 B spring-force accumulator
+//            entry and read it back (2 x 32 B); write x, v (2 x 24 B)
+//                                                                 = 232 B
 //   anchors: node (4 B), point (24 B), k, c (2 x 8 B)             = 44 B
 // Run: nice -n 10 build-msm/bin/bench_msm_step --benchmark_min_time=0.2
 //        --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -24,6 +25,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "hapsim/core/integrators/msm_step.h"
@@ -35,12 +38,12 @@ using hapsim::core::IntegratorChoice;
 using hapsim::core::IntegratorKind;
 
 double StepBytes(const hapsim::core::MsmModel& m) {
-  return 32.0 * m.NumSprings() + 216.0 * m.num_nodes + 44.0 * m.NumAnchors();
+  return 32.0 * m.NumSprings() + 232.0 * m.num_nodes + 44.0 * m.NumAnchors();
 }
 
 double WorkingSetBytes(const hapsim::core::MsmModel& m) {
-  // Every array the step touches: springs 32 B, nodes 5 x 24 + 3 x 8 B, anchors 44 B.
-  return 32.0 * m.NumSprings() + 144.0 * m.num_nodes + 44.0 * m.NumAnchors();
+  // Every array the step touches: springs 32 B, nodes 4 x 24 + 32 + 3 x 8 B, anchors 44 B.
+  return 32.0 * m.NumSprings() + 152.0 * m.num_nodes + 44.0 * m.NumAnchors();
 }
 
 // STREAM triad bandwidth [bytes/s] over 3 arrays totalling `bytes`.
@@ -66,13 +69,19 @@ double TriadBandwidth(double bytes) {
   return 24.0 * static_cast<double>(n) / best_s;
 }
 
-void BM_MsmStep(benchmark::State& bench, IntegratorChoice method) {
+// The spring kernel a benchmark runs (default: the fastest this CPU has).
+// Both give bit-identical states (tests/core/spring_kernel_test.cpp); the
+// portable kernel, the one every CPU runs, is the baseline run side by side
+// with the default.
+void BM_MsmStep(benchmark::State& bench, IntegratorChoice method, std::optional<hapsim::core::SpringKernel> kernel) {
   hapsim::core::TissueBlockParams p;
   p.grid_nodes = static_cast<int>(bench.range(0));
   p.size_m = 0.003 * (p.grid_nodes - 1);
   const hapsim::core::MsmModel model = hapsim::core::BuildMsmModel(hapsim::core::MakeTissueGridDef(p));
   hapsim::core::MsmState state = hapsim::core::MakeMsmState(model);
   hapsim::core::MsmWorkspace ws = hapsim::core::MakeMsmWorkspace(model);
+  if (kernel) ws.spring_kernel = *kernel;
+  bench.SetLabel(hapsim::core::SpringKernelName(ws.spring_kernel));
   // A press in the middle so the springs do real work (not all at rest).
   state.f_ext_N(2, (p.grid_nodes / 2) * p.grid_nodes + p.grid_nodes / 2) = -0.5;
   const double triad = TriadBandwidth(WorkingSetBytes(model));
@@ -101,18 +110,26 @@ void Statistics(benchmark::internal::Benchmark* b) {
   b->ComputeStatistics("max", [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); });
 }
 
-// Grid sizes giving ~1k, 10k, 33k, 100k, 300k and 1M springs (4 per node).
+// Grid sizes giving ~1k, 10k, 33k, 100k, 160k, 210k, 300k, 410k, 640k and
+// 1M springs (4 per node): the decades, plus the L2 -> L3 -> DRAM range in
+// between, where the rate dips.
 void MeshSizes(benchmark::internal::Benchmark* b) {
-  for (const int n : {17, 51, 91, 159, 275, 501}) b->Arg(n);
+  for (const int n : {17, 51, 91, 159, 200, 230, 275, 320, 400, 501}) b->Arg(n);
   b->ArgName("grid_nodes")->Unit(benchmark::kMicrosecond);
   Statistics(b);
 }
 
-BENCHMARK_CAPTURE(BM_MsmStep, symplectic_euler, IntegratorChoice{IntegratorKind::kSymplecticEuler, 0.5})->Apply(MeshSizes);
-BENCHMARK_CAPTURE(BM_MsmStep, midpoint_averaging, IntegratorChoice{IntegratorKind::kMidpointAveraging, 0.5})->Apply(MeshSizes);
-BENCHMARK_CAPTURE(BM_MsmStep, rk4, IntegratorChoice{IntegratorKind::kRk4, 0.5})
+constexpr IntegratorChoice kSymplectic{IntegratorKind::kSymplecticEuler, 0.5};
+// The default kernel (the fastest on this CPU), then in the same run the
+// portable baseline.
+BENCHMARK_CAPTURE(BM_MsmStep, symplectic_euler, kSymplectic, std::nullopt)->Apply(MeshSizes);
+BENCHMARK_CAPTURE(BM_MsmStep, symplectic_euler_portable, kSymplectic, hapsim::core::SpringKernel::kPortable)
+    ->Apply(MeshSizes);
+BENCHMARK_CAPTURE(BM_MsmStep, midpoint_averaging, IntegratorChoice{IntegratorKind::kMidpointAveraging, 0.5},
+                  std::nullopt)->Apply(MeshSizes);
+BENCHMARK_CAPTURE(BM_MsmStep, rk4, IntegratorChoice{IntegratorKind::kRk4, 0.5}, std::nullopt)
     ->Arg(159)->Arg(501)->Unit(benchmark::kMicrosecond)->Apply(Statistics);
-BENCHMARK_CAPTURE(BM_MsmStep, backward_euler, IntegratorChoice{IntegratorKind::kBackwardEuler, 0.5})
+BENCHMARK_CAPTURE(BM_MsmStep, backward_euler, IntegratorChoice{IntegratorKind::kBackwardEuler, 0.5}, std::nullopt)
     ->Arg(159)->Unit(benchmark::kMicrosecond)->Apply(Statistics);
 
 }  // namespace

@@ -3,7 +3,6 @@
 // Included only by msm_step.cpp.
 #pragma once
 #include "hapsim/core/integrators/msm_step.h"
-#include "fused_sweep.h"
 #include "node_pass_avx512.h"
 #include "step_common.h"
 
@@ -40,32 +39,17 @@ inline auto TrapezoidUpdate(double* __restrict x, double* __restrict v, const No
   };
 }
 
-// A one-evaluation scheme's step: spring forces at (x, v), then
-// node_pass(ranges) over the active nodes — fused chunk by chunk on the full
-// update (fused_sweep.h), in two passes on the local one.
-template <class R, class NodePass>
-void OneEvaluation(const MsmModel& m, MsmWorkspace& ws, const double* x, const double* v, double* f, R r,
-                   NodePass node_pass) {
-  if constexpr (R::local) {
-    SpringPass(m, ws, x, v, f, r);
-    node_pass(r);
-  } else {
-    SpringsThenNodes(m, ws, x, v, f, node_pass);
-  }
-}
-
 template <class R>
 void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
   double* __restrict x = s.x_m.data();
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  OneEvaluation(m, ws, x, v, f, r, [&](auto nodes) {
-    FinalNodePass(t, f, x, v, x, v, nodes, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-      const double a = t.inv_mass[i] * force_N;
-      x[e] += h * v[e];
-      v[e] += h * a;
-    });
+  SpringPass(m, ws, x, v, f, r);
+  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    const double a = t.inv_mass[i] * force_N;
+    x[e] += h * v[e];
+    v[e] += h * a;
   });
 }
 
@@ -75,14 +59,13 @@ void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws,
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  OneEvaluation(m, ws, x, v, f, r, [&](auto nodes) {
+  SpringPass(m, ws, x, v, f, r);
 #if HAPSIM_MSM_AVX512_KERNEL
-    if (UsesAvx512(ws)) return SymplecticNodePassAvx512(t, f, x, v, h, nodes, g);
+  if (UsesAvx512(ws)) return SymplecticNodePassAvx512(t, f, x, v, h, r, g);
 #endif
-    FinalNodePass(t, f, x, v, x, v, nodes, g, [&](std::int32_t e, std::int32_t i, double force_N) {
-      v[e] += h * t.inv_mass[i] * force_N;
-      x[e] += h * v[e];
-    });
+  FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
+    v[e] += h * t.inv_mass[i] * force_N;
+    x[e] += h * v[e];
   });
 }
 
@@ -92,8 +75,8 @@ void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  OneEvaluation(m, ws, x, v, f, r,
-                [&](auto nodes) { FinalNodePass(t, f, x, v, x, v, nodes, g, TrapezoidUpdate(x, v, t, h)); });
+  SpringPass(m, ws, x, v, f, r);
+  FinalNodePass(t, f, x, v, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
 template <class R>

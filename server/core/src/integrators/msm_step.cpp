@@ -30,10 +30,6 @@ MsmWorkspace MakeMsmWorkspace(const MsmModel& model) {
   for (Eigen::Matrix3Xd* m : {&ws.xs, &ws.vs, &ws.sum_x, &ws.sum_v, &ws.rhs,
                               &ws.dv, &ws.r, &ws.p, &ws.ap})
     *m = Eigen::Matrix3Xd::Zero(3, n);
-  const std::size_t chunks = (static_cast<std::size_t>(model.spring_capacity) + kFusedChunkSprings - 1) /
-                             static_cast<std::size_t>(kFusedChunkSprings);
-  ws.fused_node_end.assign(chunks, 0);
-  ws.node_last_spring.assign(static_cast<std::size_t>(n), -1);
   ws.spring_u.assign(3 * static_cast<std::size_t>(model.spring_capacity), 0.0);
   ws.spring_geo.assign(static_cast<std::size_t>(model.spring_capacity), 0.0);
   return ws;

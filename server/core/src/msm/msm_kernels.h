@@ -31,12 +31,11 @@
 
 namespace hapsim::core::detail {
 
-// first, first + 1, ..., first + n - 1 (all n when first = 0).
+// 0, 1, ..., n-1.
 struct DenseRange {
   std::int32_t n;
-  std::int32_t first = 0;
   std::int32_t size() const { return n; }
-  std::int32_t operator[](std::int32_t k) const { return first + k; }
+  std::int32_t operator[](std::int32_t k) const { return k; }
 };
 // An explicit list of indices.
 struct ListRange {

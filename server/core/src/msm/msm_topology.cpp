@@ -30,7 +30,6 @@ void RemoveSpring(MsmModel& m, std::int32_t s) {
   m.spring_rest_m.pop_back();
   m.spring_k_N_per_m.pop_back();
   m.spring_c_Ns_per_m.pop_back();
-  ++m.topology_revision;
 }
 
 std::int32_t AddSpring(MsmModel& m, std::int32_t i, std::int32_t j, double rest_m, double k_N_per_m,
@@ -49,7 +48,6 @@ std::int32_t AddSpring(MsmModel& m, std::int32_t i, std::int32_t j, double rest_
   m.spring_rest_m.push_back(rest_m);
   m.spring_k_N_per_m.push_back(k_N_per_m);
   m.spring_c_Ns_per_m.push_back(c_Ns_per_m);
-  ++m.topology_revision;
   return m.NumSprings() - 1;
 }
 

@@ -22,10 +22,6 @@
 
 namespace hapsim::core {
 
-// Springs per chunk of the fused sweep (MsmWorkspace::fused_sweep): 32 KB
-// of spring data, a few grid rows of nodes.
-inline constexpr std::int32_t kFusedChunkSprings = 1024;
-
 // Scratch memory for every integrator, sized from the model's node count and
 // spring capacity so cutting (AddSpring within capacity) never invalidates it.
 struct MsmWorkspace {
@@ -42,19 +38,6 @@ struct MsmWorkspace {
   // Spring-force kernel; any supported choice gives bit-identical results.
   // An unsupported choice falls back to kPortable.
   SpringKernel spring_kernel = BestSpringKernel();
-  // Fused sweep (full update of the one-evaluation schemes: explicit,
-  // symplectic and improved Euler): springs run in chunks of
-  // kFusedChunkSprings in their model order; after chunk c, nodes
-  // [previous end, fused_node_end[c]) — which no later spring touches — are
-  // integrated while their data is still in cache. Bit-identical to a spring
-  // pass followed by a node pass (false = that, kept as the reference).
-  // The schedule is rebuilt in the step when model.topology_revision
-  // changes.
-  bool fused_sweep = true;
-  std::vector<std::int32_t> fused_node_end;    // per chunk (capacity rounded up)
-  std::vector<std::int32_t> node_last_spring;  // scratch (n)
-  std::uint64_t fused_revision = 0;
-  std::int32_t fused_num_springs = -1;         // -1: no schedule yet
   // Implicit solver controls.
   int cg_max_iterations = 200;
   double cg_relative_tolerance = 1e-10;

@@ -76,9 +76,6 @@ struct MsmModel {
   Eigen::VectorXd anchor_k_sum_N_per_m;       // sum of anchor k at i (n)
   Eigen::Matrix3Xd anchor_kp_sum_N;           // sum of k_a p_a at i [N] (3 x n)
 
-  // Bumped by every spring edit in msm_topology.h, so data derived from the
-  // spring order (the step's fused-sweep schedule) knows to rebuild.
-  std::uint64_t topology_revision = 0;
   std::int32_t NumSprings() const { return static_cast<std::int32_t>(spring_i.size()); }
   std::int32_t NumAnchors() const { return static_cast<std::int32_t>(anchor_node.size()); }
 };
