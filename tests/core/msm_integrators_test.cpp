@@ -17,18 +17,8 @@
 namespace hapsim::core {
 namespace {
 
-constexpr IntegratorChoice kAllMethods[] = {
-    {IntegratorKind::kExplicitEuler, 0.5},     {IntegratorKind::kSymplecticEuler, 0.5},
-    {IntegratorKind::kImprovedEuler, 0.5},     {IntegratorKind::kMidpointAveraging, 0.5},
-    {IntegratorKind::kMidpointAveraging, 0.375}, {IntegratorKind::kMidpointAveraging, 0.625},
-    {IntegratorKind::kRk4, 0.5},               {IntegratorKind::kBackwardEuler, 0.5},
-};
-
-std::string Name(IntegratorChoice m) {
-  std::string name = ToString(m.kind);
-  if (m.kind == IntegratorKind::kMidpointAveraging) name.append(" alpha ").append(std::to_string(m.alpha));
-  return name;
-}
+using test::kAllMethods;
+using test::Name;
 
 TEST(MsmIntegrators, AccelerationIsForceOverMass) {
   // One symplectic step from rest at x: v1 = -h k x / m exactly (m = 2.5 kg).

@@ -1,8 +1,27 @@
-// Small hand-built MSM models shared by the MSM tests.
+// Small hand-built MSM models, and the integrator list, shared by the MSM
+// tests.
 #pragma once
+#include <string>
+
+#include "hapsim/core/integrators/integrator_kind.h"
 #include "hapsim/core/msm/msm_model.h"
 
 namespace hapsim::core::test {
+
+// Every integrator, midpoint-averaging at the paper's three weights.
+inline constexpr IntegratorChoice kAllMethods[] = {
+    {IntegratorKind::kExplicitEuler, 0.5},     {IntegratorKind::kSymplecticEuler, 0.5},
+    {IntegratorKind::kImprovedEuler, 0.5},     {IntegratorKind::kMidpointAveraging, 0.5},
+    {IntegratorKind::kMidpointAveraging, 0.375}, {IntegratorKind::kMidpointAveraging, 0.625},
+    {IntegratorKind::kRk4, 0.5},               {IntegratorKind::kBackwardEuler, 0.5},
+};
+
+// "midpoint_averaging alpha 0.375", "rk4", ...
+inline std::string Name(IntegratorChoice m) {
+  std::string name = ToString(m.kind);
+  if (m.kind == IntegratorKind::kMidpointAveraging) name.append(" alpha ").append(std::to_string(m.alpha));
+  return name;
+}
 
 // One free node of mass m on a zero-length anchor spring k (and damper c) at
 // the origin: the linear oscillator m x'' = -k x - c x' in each axis.

@@ -17,15 +17,13 @@
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_topology.h"
 #include "hapsim/core/scenes/tissue_block.h"
+#include "msm_test_models.h"
 
 namespace hapsim::core {
 namespace {
 
-constexpr IntegratorChoice kAllMethods[] = {
-    {IntegratorKind::kExplicitEuler, 0.5},     {IntegratorKind::kSymplecticEuler, 0.5},
-    {IntegratorKind::kImprovedEuler, 0.5},     {IntegratorKind::kMidpointAveraging, 0.375},
-    {IntegratorKind::kRk4, 0.5},               {IntegratorKind::kBackwardEuler, 0.5},
-};
+using test::kAllMethods;
+using test::Name;
 
 // Skips the calling test on a CPU without AVX-512 (the portable kernel is
 // then the only one, and the comparison would be with itself).
@@ -121,7 +119,7 @@ TEST(SpringKernel, Avx512MatchesPortableBitForBitForEveryIntegrator) {
       // The steps moved the nodes (the comparison is not between two rests).
       EXPECT_GT((reference.state.x_m - model.x0_m).cwiseAbs().maxCoeff(), 1e-6);
       ExpectBitIdentical(reference, Simulate(model, method, SpringKernel::kAvx512, cut),
-                         std::string(ToString(method.kind)) + (cut ? ", with cuts" : ""));
+                         Name(method) + (cut ? ", with cuts" : ""));
     }
   }
 }
@@ -132,7 +130,7 @@ TEST(SpringKernel, Avx512MatchesPortableWithSpringsInRandomOrder) {
   for (const IntegratorChoice method : kAllMethods)
     ExpectBitIdentical(Simulate(model, method, SpringKernel::kPortable, false),
                        Simulate(model, method, SpringKernel::kAvx512, false),
-                       std::string(ToString(method.kind)) + ", shuffled springs");
+                       Name(method) + ", shuffled springs");
 }
 
 TEST(SpringKernel, Avx512MatchesPortableOnTheLocalUpdate) {
@@ -153,7 +151,7 @@ TEST(SpringKernel, Avx512MatchesPortableOnTheLocalUpdate) {
       }
       hashes.push_back(StateHash(state));
     }
-    EXPECT_EQ(hashes[0], hashes[1]) << ToString(method.kind);
+    EXPECT_EQ(hashes[0], hashes[1]) << Name(method);
   }
 }
 
