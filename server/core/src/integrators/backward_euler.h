@@ -76,7 +76,7 @@ int BackwardEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R 
   double *f = ws.f.data(), *rhs = ws.rhs.data(), *dv = ws.dv.data(), *res = ws.r.data(), *p = ws.p.data(),
          *ap = ws.ap.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
   LinearizeSprings(m, x, ws, r);
   // rhs = h f - h^2 Kop v  (= h (f + h K v), K = df/dx); filtered to free active nodes.
   ApplySystem(m, ws, 0.0, 0.0, h * h, v, rhs, r);

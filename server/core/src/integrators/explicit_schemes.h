@@ -45,7 +45,7 @@ void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
   FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
     const double a = t.inv_mass[i] * force_N;
     x[e] += h * v[e];
@@ -59,7 +59,7 @@ void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws,
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
 #if HAPSIM_MSM_AVX512_KERNEL
   if (UsesAvx512(ws)) return SymplecticNodePassAvx512(t, f, x, v, h, r, g);
 #endif
@@ -75,7 +75,7 @@ void ImprovedEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
   FinalNodePass(t, f, x, v, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
@@ -88,7 +88,7 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
   double* __restrict vs = ws.vs.data();
   const NodeTerms t(m, s);
   const double ah = alpha * h;
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
   CopyTouched(x, v, xs, vs, r);
   for (std::int32_t k = 0; k < r.active.size(); ++k) {
     const std::int32_t i = r.active[k];
@@ -98,7 +98,7 @@ void MidpointAveraging(const MsmModel& m, MsmState& s, double h, double alpha, M
       xs[e] = x[e] + ah * vs[e];
     }
   }
-  SpringPass(m, ws, xs, vs, f, r);
+  SpringPass(m, ws, xs, vs, r);
   FinalNodePass(t, f, xs, vs, x, v, r, g, TrapezoidUpdate(x, v, t, h));
 }
 
@@ -112,7 +112,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
   double* __restrict sx = ws.sum_x.data();
   double* __restrict sv = ws.sum_v.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, f, r);
+  SpringPass(m, ws, x, v, r);
   CopyTouched(x, v, xs, vs, r);
   for (std::int32_t k = 0; k < r.active.size(); ++k) {  // k1 = (v, a(x, v))
     const std::int32_t i = r.active[k];
@@ -126,7 +126,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
     }
   }
   for (const double stage_h : {0.5 * h, h}) {  // k2, k3
-    SpringPass(m, ws, xs, vs, f, r);
+    SpringPass(m, ws, xs, vs, r);
     for (std::int32_t k = 0; k < r.active.size(); ++k) {
       const std::int32_t i = r.active[k];
       for (int c = 0; c < 3; ++c) {
@@ -139,7 +139,7 @@ void Rk4(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard&
       }
     }
   }
-  SpringPass(m, ws, xs, vs, f, r);  // k4
+  SpringPass(m, ws, xs, vs, r);  // k4
   FinalNodePass(t, f, xs, vs, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
     const double a4 = t.inv_mass[i] * force_N;
     x[e] += h / 6.0 * (sx[e] + vs[e]);

@@ -45,9 +45,9 @@ inline bool UsesAvx512(const MsmWorkspace& ws) {
 // zero here (every consumer resets what it reads). Local update: frozen
 // neighbours' entries may be stale, so the touched set is cleared first.
 template <class R>
-void SpringPass(const MsmModel& m, const MsmWorkspace& ws, const double* x, const double* v, double* f, R r) {
-  if constexpr (R::local) ZeroAccumulator(f, r.touched);
-  detail::SpringForces(m, ws.spring_kernel, x, v, f, r.springs);
+void SpringPass(const MsmModel& m, MsmWorkspace& ws, const double* x, const double* v, R r) {
+  if constexpr (R::local) ZeroAccumulator(ws.f.data(), r.touched);
+  detail::SpringForces(m, ws.spring_kernel, x, v, ws.f.data(), r.springs);
 }
 
 // Stage buffers start as a copy of the frozen neighbours' state (local
