@@ -72,8 +72,8 @@ T* ByteOffset(T* p, std::size_t bytes) {
 // dependency chain after them (this form measured ~10 % faster than the
 // textbook one).
 //
-// Three implementations of it, one per SpringKernel, perform the same IEEE
-// operations in the same order for every spring (no FMA contraction: the
+// Three implementations of it (SpringKernel::kPortable is the first two)
+// perform the same IEEE operations in the same order for every spring (no FMA contraction: the
 // core builds with -ffp-contract=off) and scatter in spring order, so their
 // forces are bit-identical:
 //  - spring() below: one spring, scalar; the reference form.
