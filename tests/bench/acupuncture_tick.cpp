@@ -70,12 +70,7 @@ void BM_AcupunctureTick_InsertionCycle(benchmark::State& state) {
 BENCHMARK(BM_AcupunctureTick_InsertionCycle)->Unit(benchmark::kMicrosecond);
 
 void BM_ForceNetSolve_Muscle(benchmark::State& state) {
-  const TissueLayer m = PaperTissueLayers()[2];
-  ForceNetDef d;
-  d.rings_w = m.rings_w;
-  d.spacing_L_m = m.spacing_L_m;
-  d.virtual_K_N_per_m = m.virtual_K_N_per_m;
-  const ForceNetModel net = BuildForceNet(d);
+  const ForceNetModel net = BuildForceNet(ForceNetDefFor(PaperTissueLayers()[2]));  // muscle
   ForceNetState s = MakeForceNetState(net);
   PlaceForceNet(net, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), s);
   int k = 0;
@@ -87,12 +82,7 @@ void BM_ForceNetSolve_Muscle(benchmark::State& state) {
 BENCHMARK(BM_ForceNetSolve_Muscle)->Unit(benchmark::kMicrosecond);
 
 void BM_SpringbackStep_SkinNet(benchmark::State& state) {
-  const TissueLayer skin = PaperTissueLayers()[0];
-  ForceNetDef d;
-  d.rings_w = skin.rings_w;
-  d.spacing_L_m = skin.spacing_L_m;
-  d.virtual_K_N_per_m = skin.virtual_K_N_per_m;
-  const ForceNetModel net = BuildForceNet(d);
+  const ForceNetModel net = BuildForceNet(ForceNetDefFor(PaperTissueLayers()[0]));  // skin
   ForceNetState s = MakeForceNetState(net);
   PlaceForceNet(net, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), s);
   SolveForceNet(net, Eigen::Vector3d(0, 0, -1e-4), s);

@@ -13,14 +13,7 @@
 namespace hapsim::core {
 namespace {
 
-ForceNetDef SkinNet() {
-  const TissueLayer skin = PaperTissueLayers()[0];
-  ForceNetDef d;
-  d.rings_w = skin.rings_w;
-  d.spacing_L_m = skin.spacing_L_m;
-  d.virtual_K_N_per_m = skin.virtual_K_N_per_m;
-  return d;
-}
+ForceNetDef SkinNet() { return ForceNetDefFor(PaperTissueLayers()[0]); }
 
 TEST(HexNetTopology, RingJHoldsSixTimesJMinusOneParticlesAtSpacingL) {
   for (int w : {1, 2, 4, 8, 10}) {

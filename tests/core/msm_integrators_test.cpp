@@ -75,9 +75,8 @@ OscillatorRun RunUndamped(IntegratorKind kind, int steps) {
   return run;
 }
 
-TEST(MsmIntegrators, ExplicitEulerMultipliesOscillatorEnergyByOnePlusW2H2) {
-  const OscillatorRun r = RunUndamped(IntegratorKind::kExplicitEuler, 50);
-  const double factor = 1.0 + r.w2 * r.h * r.h;
+// Every step multiplies the energy measure v^2 + w^2 x^2 by `factor`.
+void ExpectEnergyFactorEachStep(const OscillatorRun& r, double factor) {
   for (std::size_t k = 0; k + 1 < r.x.size(); ++k) {
     const double q0 = r.v[k] * r.v[k] + r.w2 * r.x[k] * r.x[k];
     const double q1 = r.v[k + 1] * r.v[k + 1] + r.w2 * r.x[k + 1] * r.x[k + 1];
@@ -85,14 +84,14 @@ TEST(MsmIntegrators, ExplicitEulerMultipliesOscillatorEnergyByOnePlusW2H2) {
   }
 }
 
+TEST(MsmIntegrators, ExplicitEulerMultipliesOscillatorEnergyByOnePlusW2H2) {
+  const OscillatorRun r = RunUndamped(IntegratorKind::kExplicitEuler, 50);
+  ExpectEnergyFactorEachStep(r, 1.0 + r.w2 * r.h * r.h);
+}
+
 TEST(MsmIntegrators, BackwardEulerDividesOscillatorEnergyByOnePlusW2H2) {
   const OscillatorRun r = RunUndamped(IntegratorKind::kBackwardEuler, 50);
-  const double factor = 1.0 / (1.0 + r.w2 * r.h * r.h);
-  for (std::size_t k = 0; k + 1 < r.x.size(); ++k) {
-    const double q0 = r.v[k] * r.v[k] + r.w2 * r.x[k] * r.x[k];
-    const double q1 = r.v[k + 1] * r.v[k + 1] + r.w2 * r.x[k + 1] * r.x[k + 1];
-    EXPECT_NEAR(q1 / q0, factor, 1e-12) << "step " << k;
-  }
+  ExpectEnergyFactorEachStep(r, 1.0 / (1.0 + r.w2 * r.h * r.h));
 }
 
 TEST(MsmIntegrators, SymplecticEulerConservesModifiedOscillatorEnergy) {

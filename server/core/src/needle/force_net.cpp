@@ -71,6 +71,14 @@ Eigen::VectorXd SolveInfluence(const HexNetTopology& topo, double K, double ks, 
 
 }  // namespace
 
+ForceNetDef ForceNetDefFor(const TissueLayer& layer) {
+  ForceNetDef d;
+  d.rings_w = layer.rings_w;
+  d.spacing_L_m = layer.spacing_L_m;
+  d.virtual_K_N_per_m = layer.virtual_K_N_per_m;
+  return d;
+}
+
 ForceNetModel BuildForceNet(const ForceNetDef& def) {
   Require(def.rings_w >= 2 && def.rings_w <= 40, "rings w must be in [2, 40]");
   Require(def.spacing_L_m > 0.0 && def.spacing_L_m < 0.05, "spring length L must be in (0, 0.05) m");

@@ -14,10 +14,7 @@ namespace hapsim::core {
 namespace {
 
 ForceNetDef NetDef(const AcupunctureParams& p, const TissueLayer& layer) {
-  ForceNetDef d;
-  d.rings_w = layer.rings_w;
-  d.spacing_L_m = layer.spacing_L_m;
-  d.virtual_K_N_per_m = layer.virtual_K_N_per_m;
+  ForceNetDef d = ForceNetDefFor(layer);
   d.tension_ratio = p.net_tension_ratio;
   d.threshold_ratio = p.ring_w_threshold_ratio;
   return d;

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 
 #include "hapsim/core/needle/hex_net_topology.h"
+#include "hapsim/core/needle/tissue_layers.h"
 
 namespace hapsim::core {
 
@@ -50,6 +51,10 @@ struct ForceNetModel {
   double critical_deflection_m = 0.0;  // Z_1* = ζ / g_w
   double static_residual_N = 0.0;   // max |force| on a free node after the MSM solve (check)
 };
+
+// The net of one tissue layer: its rings w, spacing L and virtual K (Table 2),
+// with the default tension and threshold ratios.
+ForceNetDef ForceNetDefFor(const TissueLayer& layer);
 
 // Validates def (throws std::invalid_argument naming the field) and solves
 // the statics with the MSM core (allocates; call at scene build).
