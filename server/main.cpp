@@ -1,5 +1,6 @@
 // hapsim-server: the physics server. Hosts sessions (one scene each, ticked
-// at 1 kHz), takes device poses over DDS, answers with local force models,
+// at 1 kHz on a worker pool, clocked by their devices' poses), takes device
+// poses over DDS, answers with local force models,
 // and streams mesh frames to viewers over gRPC. SIGINT/SIGTERM stop it
 // cleanly; a one-line-per-session summary goes to stdout at exit.
 #include <cstdio>
@@ -36,17 +37,22 @@ bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std
 
 void PrintSummary(hapsim::service::ServerApp& app) {
   const auto& d = app.dds().counters();
-  std::printf("server: poses accepted %llu, rejected %llu, unknown-session %llu; force models written %llu\n",
+  const auto pool = app.pool().stats();
+  std::printf("server: poses accepted %llu, rejected %llu, unknown-session %llu, other-device %llu; "
+              "force models written %llu; tick pool %d workers, %llu ticks, %llu wake-ups\n",
               static_cast<unsigned long long>(d.poses_accepted.load()),
               static_cast<unsigned long long>(d.poses_rejected.load()),
               static_cast<unsigned long long>(d.poses_unknown_session.load()),
-              static_cast<unsigned long long>(d.force_models_written.load()));
+              static_cast<unsigned long long>(d.poses_other_device.load()),
+              static_cast<unsigned long long>(d.force_models_written.load()), app.pool().workers(),
+              static_cast<unsigned long long>(pool.ticks), static_cast<unsigned long long>(pool.wakeups));
   for (const auto& s : app.registry().List()) {
     const auto& c = s->counters();
-    std::printf("session %s (%s): ticks %llu, sim %.3f s, deadline misses %llu, peak tool force %.3f N, "
-                "numerical resets %llu\n",
+    std::printf("session %s (%s): ticks %llu (device-clocked %llu), sim %.3f s, late ticks %llu "
+                "(worst %.3f ms late), peak tool force %.3f N, numerical resets %llu\n",
                 s->id().c_str(), s->config().scene.c_str(), static_cast<unsigned long long>(c.ticks.load()),
-                c.sim_time_s.load(), static_cast<unsigned long long>(c.deadline_misses.load()),
+                static_cast<unsigned long long>(c.device_clocked_ticks.load()), c.sim_time_s.load(),
+                static_cast<unsigned long long>(c.late_ticks.load()), static_cast<double>(c.max_lateness_ns.load()) * 1e-6,
                 c.peak_tool_force_N.load(), static_cast<unsigned long long>(c.numerical_resets.load()));
   }
   std::fflush(stdout);
@@ -57,7 +63,7 @@ void PrintSummary(hapsim::service::ServerApp& app) {
 int main(int argc, char** argv) {
   hapsim::service::ServerOptions options;
   std::string log_level = "info", sessions, dds_config, port_file;
-  double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0;
+  double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
   int dds_domain = 0, max_sessions = 64;
   hapsim::runtime::Flags flags(
       "hapsim-server",
@@ -72,6 +78,10 @@ int main(int argc, char** argv) {
   flags.Add("max-sessions", &max_sessions, "refuse to create more sessions than this");
   flags.Add("quantum-mm", &quantum_mm, "position quantisation of viewer deltas [mm]");
   flags.Add("pose-timeout-ms", &pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
+  flags.Add("pose-slack-ms", &pose_slack_ms,
+            "a streaming device clocks its session's ticks; if its next pose is later than one tick period\n"
+            "plus this, the session ticks on its own deadline with the previous pose [ms]");
+  flags.Add("workers", &options.workers, "tick worker threads (0: one per CPU this process may run on)");
   flags.Add("max-message-bytes", &options.max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &dds_domain, "DDS domain id");
   flags.Add("dds-config", &dds_config,
@@ -88,7 +98,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!(quantum_mm > 0.0 && quantum_mm <= 1.0) || max_sessions < 1 || dds_domain < 0 || dds_domain > 232 ||
-      !(pose_timeout_ms > 0.0) || options.max_message_bytes < 1024) {
+      !(pose_timeout_ms > 0.0) || !(pose_slack_ms >= 0.0 && pose_slack_ms <= pose_timeout_ms) ||
+      options.workers < 0 || options.workers > 64 || options.max_message_bytes < 1024) {
     std::fprintf(stderr, "hapsim-server: a flag is out of range (see --help)\n");
     return 2;
   }
@@ -99,6 +110,7 @@ int main(int argc, char** argv) {
   options.sessions.tick_period_s = 1.0 / tick_hz;
   options.sessions.max_sessions = static_cast<std::size_t>(max_sessions);
   options.sessions.pose_timeout_s = pose_timeout_ms * 1e-3;
+  options.sessions.pose_slack_s = pose_slack_ms * 1e-3;
   options.quantum_m = quantum_mm * 1e-3;
   options.dds.domain_id = static_cast<std::uint32_t>(dds_domain);
   options.dds.config_file = dds_config;

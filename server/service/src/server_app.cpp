@@ -10,7 +10,10 @@ namespace hapsim::service {
 ServerApp::ServerApp(const ServerOptions& o) {
   dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
   spdlog::info("DDS domain {} with config: {}", o.dds.domain_id, dds_->config_origin());
-  registry_ = std::make_unique<SessionRegistry>(o.sessions, [dds = dds_.get()] { dds->Wake(); });
+  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
+  spdlog::info("tick pool: {} workers", pool_->workers());
+  registry_ = std::make_unique<SessionRegistry>(
+      o.sessions, pool_.get(), [dds = dds_.get()](const hapsim_dds_LocalForceModel& m) { return dds->WriteForceModel(m); });
   pump_ = std::make_unique<FramePump>(registry_.get());
   session_service_ = std::make_unique<SessionServiceImpl>(registry_.get(), &scores_);
   viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), o.quantum_m);
@@ -29,7 +32,7 @@ ServerApp::ServerApp(const ServerOptions& o) {
     throw std::runtime_error("cannot listen on " + o.listen_address +
                              " (address in use or invalid? choose another with --listen)");
   }
-  dds_->Start(registry_.get());
+  dds_->Start(registry_.get(), pool_.get());
   pump_->Start();
   spdlog::info("hapsim-server listening on {} (port {})", o.listen_address, bound_port_);
 }
@@ -44,6 +47,7 @@ void ServerApp::Shutdown() {
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
   server_->Wait();
   dds_->Stop();
+  pool_->Stop();
 }
 
 }  // namespace hapsim::service

@@ -26,8 +26,9 @@ ServerDds::ServerDds(const runtime::DdsOptions& options, PoseLimits limits)
 
 ServerDds::~ServerDds() { Stop(); }
 
-void ServerDds::Start(SessionRegistry* registry) {
+void ServerDds::Start(SessionRegistry* registry, TickPool* pool) {
   registry_ = registry;
+  pool_ = pool;
   stop_ = false;
   thread_ = std::thread([this] { Run(); });
 }
@@ -42,7 +43,6 @@ void ServerDds::Run() {
   while (!stop_.load()) {
     waitset_.Wait(kWaitTimeoutNs);
     RoutePoses();
-    WriteForceModels();
   }
 }
 
@@ -52,12 +52,14 @@ void ServerDds::RoutePoses() {
     const std::size_t n = pose_reader_.Take(batch);
     if (n == 0) return;
     const std::int64_t now = runtime::SteadyNowNs();
+    const auto table = registry_->Table();  // copy-on-write: no lock shared with control RPCs
     for (std::size_t i = 0; i < n; ++i) {
       const auto& sample = batch[i];
       PoseRejection why = PoseRejection::kNone;
       const auto tool = FilterPose(sample, limits_, &why);
       const std::string_view sid = SessionIdOf(sample.session);
-      auto session = sid.empty() ? nullptr : registry_->Find(sid);
+      const auto found = sid.empty() ? table->end() : table->find(sid);
+      Session* session = found == table->end() ? nullptr : found->second.get();
       if (!tool) {
         counters_.poses_rejected.fetch_add(1);
         if (session) session->counters().poses_rejected.fetch_add(1);
@@ -75,25 +77,29 @@ void ServerDds::RoutePoses() {
         }
         continue;
       }
+      if (!session->OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now})) {
+        counters_.poses_other_device.fetch_add(1);
+        if (now - last_warning_ns_ > kWarningIntervalNs) {
+          last_warning_ns_ = now;
+          spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id, sid,
+                       session->counters().owning_device_id.load());
+        }
+        continue;
+      }
       counters_.poses_accepted.fetch_add(1);
-      session->counters().poses_received.fetch_add(1);
-      session->OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now});
+      pool_->Wake(session, session->PoseDueNs(now));
     }
     if (n < batch.size()) return;
   }
 }
 
-void ServerDds::WriteForceModels() {
-  hapsim_dds_LocalForceModel model;
-  for (const auto& session : registry_->List()) {
-    if (!session->TakeForceModel(&model)) continue;
-    if (model_writer_.Write(model)) {
-      counters_.force_models_written.fetch_add(1);
-      session->counters().force_models_sent.fetch_add(1);
-    } else {
-      counters_.write_failures.fetch_add(1);
-    }
+bool ServerDds::WriteForceModel(const hapsim_dds_LocalForceModel& model) {
+  if (model_writer_.Write(model)) {
+    counters_.force_models_written.fetch_add(1, std::memory_order_relaxed);
+    return true;
   }
+  counters_.write_failures.fetch_add(1, std::memory_order_relaxed);
+  return false;
 }
 
 }  // namespace hapsim::service

@@ -1,11 +1,9 @@
 #include "hapsim/service/session.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstring>
-
-#include <spdlog/spdlog.h>
+#include <stdexcept>
 
 #include "hapsim/runtime/clock.h"
 #include "hapsim/service/viewer_link.h"
@@ -14,108 +12,128 @@ namespace hapsim::service {
 
 namespace {
 
-void AtomicMax(std::atomic<double>& a, double v) {
-  double cur = a.load(std::memory_order_relaxed);
+template <class T>
+void AtomicMax(std::atomic<T>& a, T v) {
+  T cur = a.load(std::memory_order_relaxed);
   while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
   }
 }
 
+std::int64_t SecondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+
+constexpr std::size_t kRecentEvents = 64;  // events carried by each snapshot
+
 }  // namespace
 
-Session::Session(SessionConfig config, std::function<void()> wake_dds)
-    : config_(std::move(config)), wake_dds_(std::move(wake_dds)) {
+Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, ForceModelSink sink)
+    : config_(std::move(config)),
+      period_ns_(SecondsToNs(config_.tick_period_s)),
+      pose_timeout_ns_(SecondsToNs(config_.pose_timeout_s)),
+      pose_slack_ns_(SecondsToNs(config_.pose_slack_s)),
+      scene_(std::move(scene)),
+      sink_(std::move(sink)),
+      ownership_(pose_timeout_ns_),
+      snapshots_(scene_ ? static_cast<std::size_t>(scene_->Vertices_m().cols()) : 0, kRecentEvents) {
+  if (!scene_) throw std::invalid_argument("session needs a scene");
   if (!(config_.tick_period_s > 0.0 && config_.tick_period_s <= 0.1)) {
     throw std::invalid_argument("tick period must be in (0, 0.1] s");
   }
   if (!(config_.frame_rate_hz > 0.0 && config_.frame_rate_hz <= 1000.0)) {
     throw std::invalid_argument("frame rate must be in (0, 1000] Hz");
   }
-  scene_ = core::MakeScene({config_.scene, config_.params});
+  if (!(config_.pose_slack_s >= 0.0 && config_.pose_slack_s <= config_.pose_timeout_s)) {
+    throw std::invalid_argument("pose slack must be in [0, pose timeout]");
+  }
   ticks_per_frame_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(1.0 / (config_.frame_rate_hz * config_.tick_period_s))));
-  PublishSnapshot();  // viewers joining before the first tick get the initial mesh
+  std::strncpy(force_model_.session, config_.id.c_str(), sizeof force_model_.session - 1);
+  PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
 }
 
-Session::~Session() { Stop(); }
-
-void Session::Start() {
-  if (thread_.joinable()) return;
-  stop_ = false;
-  thread_ = std::thread([this] { Run(); });
-}
-
-void Session::Stop() {
-  stop_ = true;
-  if (thread_.joinable()) thread_.join();
-}
-
-// Fixed-rate loop on absolute deadlines. Sim time advances by exactly one
-// period per tick whatever the wall clock does, so results stay
-// deterministic; lateness is counted, and after a long stall the schedule is
-// re-anchored instead of running a burst of catch-up ticks.
-void Session::Run() {
-  using clock = std::chrono::steady_clock;
-  const auto period = std::chrono::duration_cast<clock::duration>(
-      std::chrono::duration<double>(config_.tick_period_s));
-  auto next = clock::now();
-  std::uint64_t tick = 0;
-  while (!stop_.load(std::memory_order_relaxed)) {
-    std::this_thread::sleep_until(next);
-    const auto now = clock::now();
-    if (now - next > period) {
-      counters_.deadline_misses.fetch_add(1, std::memory_order_relaxed);
-      if (now - next > 10 * period) next = now;  // stalled: re-anchor
-    }
-    Tick(tick++, runtime::SteadyNowNs());
-    next += period;
+bool Session::OfferPose(const PoseSample& pose) {
+  if (!ownership_.Accept(pose.device_id, pose.received_ns)) {
+    counters_.poses_from_other_devices.fetch_add(1, std::memory_order_relaxed);
+    return false;
   }
+  counters_.poses_received.fetch_add(1, std::memory_order_relaxed);
+  pose_inbox_.Publish(pose);
+  return true;
 }
 
-void Session::Tick(std::uint64_t tick_index, std::int64_t now_ns) {
-  // 1. The one input point: newest pose, if any.
+std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {
+  return std::max(arrival_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
+}
+
+std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
+  last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
+  const TickInput in = AssembleInput(now_ns);
+  if (tick_observer_) tick_observer_(in);
+  StepScene(*scene_, in, config_.tick_period_s);
+  RecordTiming(in, due_ns, now_ns);
+  if (in.tool.valid) PublishForceModel(in);
+  if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
+  return NextDueNs(in, due_ns, now_ns);
+}
+
+TickInput Session::AssembleInput(std::int64_t now_ns) {
+  TickInput in;
+  in.tick = tick_index_++;
   PoseSample pose;
   if (pose_inbox_.TakeIfNew(&pose)) {
     last_pose_ = pose;
     have_pose_ = true;
+    in.fresh_pose = true;
   }
-  core::ToolInput tool = last_pose_.tool;
-  const double pose_age_s = have_pose_ ? static_cast<double>(now_ns - last_pose_.received_ns) * 1e-9 : 1e9;
-  if (!have_pose_ || pose_age_s > config_.pose_timeout_s) tool.valid = false;  // device gone
-
-  // 2. Control requests.
+  in.tool = last_pose_.tool;
+  in.device_id = last_pose_.device_id;
+  in.pose_seq = last_pose_.seq;
+  if (!have_pose_ || now_ns - last_pose_.received_ns > pose_timeout_ns_) in.tool.valid = false;  // device gone
+  in.paused = paused_.load(std::memory_order_relaxed);
   const std::uint32_t resets = reset_requests_.load(std::memory_order_relaxed);
-  if (resets != resets_seen_) {
-    resets_seen_ = resets;
-    scene_->Reset();
-    counters_.peak_tool_force_N.store(0.0);
-  }
-
-  // 3. Step (skipped while paused).
-  if (!paused_.load(std::memory_order_relaxed)) {
-    scene_->Step(tool, config_.tick_period_s);
-  }
-  counters_.ticks.fetch_add(1, std::memory_order_relaxed);
-  counters_.sim_time_s.store(scene_->SimTime_s(), std::memory_order_relaxed);
-  counters_.numerical_resets.store(scene_->Status().numerical_resets, std::memory_order_relaxed);
-  AtomicMax(counters_.peak_tool_force_N, scene_->ToolForce_W_N().norm());
-
-  // 4. Publish: force model every tick while a device is streaming, snapshot
-  //    at the frame rate.
-  if (tool.valid) PublishForceModel();
-  if ((tick_index + 1) % ticks_per_frame_ == 0) PublishSnapshot();
+  in.reset = resets != resets_seen_;
+  resets_seen_ = resets;
+  return in;
 }
 
-void Session::PublishForceModel() {
-  hapsim_dds_LocalForceModel m{};
-  m.device_id = last_pose_.device_id;
-  std::strncpy(m.session, config_.id.c_str(), sizeof m.session - 1);
+// A streaming device clocks the session: the next tick comes with its next
+// pose, and this deadline (one period plus the slack after a device tick)
+// only fires if that pose is late. Without a device the session ticks on a
+// 1 kHz grid shared by all sessions, so their ticks coalesce into one
+// wake-up. After a long stall the schedule re-anchors instead of bursting.
+std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const {
+  std::int64_t next;
+  if (in.tool.valid) {  // a device streams
+    next = due_ns + period_ns_ + (in.fresh_pose ? pose_slack_ns_ : 0);
+  } else {
+    next = (due_ns / period_ns_ + 1) * period_ns_;
+  }
+  if (now_ns - next > 10 * period_ns_) next = (now_ns / period_ns_ + 1) * period_ns_;
+  return next;
+}
+
+void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) {
+  const std::int64_t lateness_ns = now_ns - due_ns;
+  if (lateness_ns > period_ns_) counters_.late_ticks.fetch_add(1, std::memory_order_relaxed);
+  AtomicMax(counters_.max_lateness_ns, lateness_ns);
+  if (in.fresh_pose) counters_.device_clocked_ticks.fetch_add(1, std::memory_order_relaxed);
+  counters_.ticks.fetch_add(1, std::memory_order_relaxed);
+  counters_.device_streaming.store(in.tool.valid, std::memory_order_relaxed);
+  counters_.owning_device_id.store(in.device_id, std::memory_order_relaxed);
+  counters_.sim_time_s.store(scene_->SimTime_s(), std::memory_order_relaxed);
+  counters_.numerical_resets.store(scene_->Status().numerical_resets, std::memory_order_relaxed);
+  if (in.reset) counters_.peak_tool_force_N.store(0.0);
+  AtomicMax(counters_.peak_tool_force_N, scene_->ToolForce_W_N().norm());
+}
+
+void Session::PublishForceModel(const TickInput& in) {
+  hapsim_dds_LocalForceModel& m = force_model_;
+  m.device_id = in.device_id;
   m.seq = force_seq_++;
-  m.echo_pose_seq = last_pose_.seq;
-  m.t_server_ns = runtime::SteadyNowNs();
+  m.echo_pose_seq = in.pose_seq;
   // Paused: the tissue is frozen, so the device gets no force (safe default).
-  const core::LocalForceModel model = paused_.load() ? core::LocalForceModel{} : scene_->ForceModel();
+  const core::LocalForceModel model = in.paused ? core::LocalForceModel{} : scene_->ForceModel();
+  const Eigen::Vector3d f = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.state = static_cast<std::uint8_t>(model.state);
-  const Eigen::Vector3d f = paused_.load() ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   for (int i = 0; i < 3; ++i) {
     m.anchor_m[i] = model.anchor_W_m[i];
     m.normal[i] = model.normal_W[i];
@@ -124,19 +142,28 @@ void Session::PublishForceModel() {
   }
   m.stiffness_n_per_m = model.stiffness_N_per_m;
   m.damping_ns_per_m = model.damping_Ns_per_m;
-  force_outbox_.Publish(m);
-  wake_dds_();
+  m.t_server_ns = runtime::SteadyNowNs();
+  if (sink_ && sink_(m)) {
+    counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
+  } else {
+    counters_.force_model_write_failures.fetch_add(1, std::memory_order_relaxed);
+  }
 }
 
-void Session::PublishSnapshot() {
-  auto s = std::make_shared<SceneSnapshot>();
+void Session::PublishSnapshot(const TickInput& in) {
+  std::shared_ptr<SceneSnapshot> s = snapshots_.Acquire();
+  if (!s) {
+    counters_.snapshots_skipped.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   s->id = ++snapshot_id_;
   s->sim_time_s = scene_->SimTime_s();
-  s->paused = paused_.load();
-  s->vertices_m = scene_->Vertices_m();
+  s->paused = in.paused;
+  s->vertices_m = scene_->Vertices_m();  // same size as the buffer: no allocation
   s->topology_version = scene_->TopologyVersion();
   if (s->topology_version != shared_topology_version_ || !triangles_) {
-    // Topology changed: share fresh copies with every stream from now on.
+    // Topology changed (rare: cuts, remeshing): share fresh copies with every
+    // stream from now on. The only allocation a tick may make.
     triangles_ = std::make_shared<const std::vector<std::uint32_t>>(scene_->Triangles());
     parts_ = std::make_shared<const std::vector<core::SurfacePart>>(scene_->Parts());
     layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
@@ -146,14 +173,13 @@ void Session::PublishSnapshot() {
   s->parts = parts_;
   s->layer_names = layer_names_;
   s->tool = last_pose_.tool;
-  s->tool.valid = have_pose_;
+  s->tool.valid = in.tool.valid;
   s->tool_force_W_N = scene_->ToolForce_W_N();
   s->contact = scene_->ForceModel().state;
   s->current_layer = scene_->Status().current_layer;
   s->tip_depth_m = scene_->Status().tip_depth_m;
   const auto events = scene_->Events();
-  constexpr std::size_t kRecent = 64;
-  const std::size_t first = events.size() > kRecent ? events.size() - kRecent : 0;
+  const std::size_t first = events.size() > kRecentEvents ? events.size() - kRecentEvents : 0;
   s->recent_events.assign(events.begin() + static_cast<std::ptrdiff_t>(first), events.end());
   s->events_total = scene_->EventsTotal();
   snapshot_outbox_.Publish(std::move(s));

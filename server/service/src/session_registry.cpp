@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "hapsim/runtime/clock.h"
+#include "hapsim/service/scene_builder.h"
 #include "hapsim/service/viewer_link.h"
 
 namespace hapsim::service {
@@ -15,54 +17,79 @@ bool IsValidSessionId(std::string_view id) {
   return true;
 }
 
-SessionRegistry::SessionRegistry(SessionDefaults defaults, std::function<void()> wake_dds)
-    : defaults_(defaults), wake_dds_(std::move(wake_dds)) {}
+SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, ForceModelSink sink)
+    : defaults_(defaults), pool_(pool), sink_(std::move(sink)) {
+  table_.store(std::make_shared<const SessionTable>());
+}
 
 SessionRegistry::~SessionRegistry() { CloseAll(); }
 
+void SessionRegistry::PublishTableLocked() {
+  table_.store(std::make_shared<const SessionTable>(sessions_), std::memory_order_release);
+}
+
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
-                                                 std::map<std::string, double> params) {
-  std::lock_guard lock(mutex_);
-  if (id.empty()) {
-    do {
-      id = "session-" + std::to_string(next_generated_id_++);
-    } while (sessions_.count(id));
+                                                 std::map<std::string, double> params,
+                                                 const std::function<void(Session&)>& configure) {
+  // 1. Reserve the id (brief lock).
+  {
+    std::lock_guard lock(mutex_);
+    if (id.empty()) {
+      do {
+        id = "session-" + std::to_string(next_generated_id_++);
+      } while (sessions_.count(id) || reserved_.count(id));
+    }
+    if (!IsValidSessionId(id)) {
+      throw ServiceError(ErrorCode::kInvalidArgument,
+                         "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
+    }
+    if (sessions_.count(id) || reserved_.count(id)) {
+      throw ServiceError(ErrorCode::kAlreadyExists, "session '" + id + "' already exists");
+    }
+    if (sessions_.size() + reserved_.size() >= defaults_.max_sessions) {
+      throw ServiceError(ErrorCode::kResourceExhausted,
+                         "this server already runs its maximum of " + std::to_string(defaults_.max_sessions) +
+                             " sessions; close one or start the server with a larger --max-sessions");
+    }
+    if (owner.size() > 256) throw ServiceError(ErrorCode::kInvalidArgument, "owner name longer than 256 characters");
+    reserved_.insert(id);
   }
-  if (!IsValidSessionId(id)) {
-    throw ServiceError(ErrorCode::kInvalidArgument,
-                       "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
-  }
-  if (sessions_.count(id)) throw ServiceError(ErrorCode::kAlreadyExists, "session '" + id + "' already exists");
-  if (sessions_.size() >= defaults_.max_sessions) {
-    throw ServiceError(ErrorCode::kResourceExhausted,
-                       "this server already runs its maximum of " + std::to_string(defaults_.max_sessions) +
-                           " sessions; close one or start the server with a larger --max-sessions");
-  }
-  if (owner.size() > 256) throw ServiceError(ErrorCode::kInvalidArgument, "owner name longer than 256 characters");
-  SessionConfig config;
-  config.id = id;
-  config.scene = scene.empty() ? "tissue_block" : std::move(scene);
-  config.owner = std::move(owner);
-  config.params = std::move(params);
-  config.tick_period_s = defaults_.tick_period_s;
-  config.frame_rate_hz = defaults_.frame_rate_hz;
-  config.pose_timeout_s = defaults_.pose_timeout_s;
+  // 2. Build with no lock held: other sessions keep ticking and routing poses.
   std::shared_ptr<Session> session;
   try {
-    session = std::make_shared<Session>(std::move(config), wake_dds_);
+    SessionConfig config;
+    config.id = id;
+    config.scene = scene.empty() ? "tissue_block" : std::move(scene);
+    config.owner = std::move(owner);
+    config.params = std::move(params);
+    config.tick_period_s = defaults_.tick_period_s;
+    config.frame_rate_hz = defaults_.frame_rate_hz;
+    config.pose_timeout_s = defaults_.pose_timeout_s;
+    config.pose_slack_s = defaults_.pose_slack_s;
+    auto built = BuildSceneAtLowPriority({config.scene, config.params});
+    session = std::make_shared<Session>(std::move(config), std::move(built), sink_);
+    if (configure) configure(*session);
   } catch (const std::exception& e) {  // scenes throw invalid_argument on bad parameters
+    std::lock_guard lock(mutex_);
+    reserved_.erase(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
   }
-  session->Start();
-  sessions_.emplace(id, session);
+  // 3. Publish, then start ticking.
+  {
+    std::lock_guard lock(mutex_);
+    reserved_.erase(id);
+    sessions_.emplace(id, session);
+    PublishTableLocked();
+  }
+  pool_->Add(session.get(), runtime::SteadyNowNs());
   spdlog::info("session '{}' created: scene {}", id, session->config().scene);
   return session;
 }
 
 std::shared_ptr<Session> SessionRegistry::Find(std::string_view id) const {
-  std::lock_guard lock(mutex_);
-  const auto it = sessions_.find(id);
-  return it == sessions_.end() ? nullptr : it->second;
+  const auto table = Table();
+  const auto it = table->find(id);
+  return it == table->end() ? nullptr : it->second;
 }
 
 std::shared_ptr<Session> SessionRegistry::FindOrThrow(std::string_view id) const {
@@ -72,8 +99,8 @@ std::shared_ptr<Session> SessionRegistry::FindOrThrow(std::string_view id) const
 }
 
 namespace {
-void Shut(Session& s, const grpc::Status& why) {
-  s.Stop();
+void Shut(TickPool& pool, Session& s, const grpc::Status& why) {
+  pool.Remove(&s);  // waits for a running tick; no tick after this
   for (const auto& v : s.Viewers()) v->Close(why);
 }
 }  // namespace
@@ -86,25 +113,27 @@ void SessionRegistry::Close(std::string_view id) {
     if (it == sessions_.end()) throw ServiceError(ErrorCode::kNotFound, "no session '" + std::string(id.substr(0, 80)) + "'");
     s = it->second;
     sessions_.erase(it);
+    PublishTableLocked();
   }
-  Shut(*s, grpc::Status(grpc::StatusCode::NOT_FOUND, "session '" + s->id() + "' was closed"));
+  Shut(*pool_, *s, grpc::Status(grpc::StatusCode::NOT_FOUND, "session '" + s->id() + "' was closed"));
   spdlog::info("session '{}' closed after {} ticks", s->id(), s->counters().ticks.load());
 }
 
 void SessionRegistry::CloseAll() {
-  std::map<std::string, std::shared_ptr<Session>, std::less<>> all;
+  SessionTable all;
   {
     std::lock_guard lock(mutex_);
     all.swap(sessions_);
+    PublishTableLocked();
   }
-  for (auto& [id, s] : all) Shut(*s, grpc::Status(grpc::StatusCode::UNAVAILABLE, "server shutting down"));
+  for (auto& [id, s] : all) Shut(*pool_, *s, grpc::Status(grpc::StatusCode::UNAVAILABLE, "server shutting down"));
 }
 
 std::vector<std::shared_ptr<Session>> SessionRegistry::List() const {
-  std::lock_guard lock(mutex_);
+  const auto table = Table();
   std::vector<std::shared_ptr<Session>> out;
-  out.reserve(sessions_.size());
-  for (const auto& [id, s] : sessions_) out.push_back(s);
+  out.reserve(table->size());
+  for (const auto& [id, s] : *table) out.push_back(s);
   return out;
 }
 

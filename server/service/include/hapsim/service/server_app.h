@@ -13,6 +13,7 @@
 #include "hapsim/service/server_dds.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/session_service.h"
+#include "hapsim/service/tick_pool.h"
 #include "hapsim/service/viewer_service.h"
 
 namespace hapsim::service {
@@ -20,6 +21,7 @@ namespace hapsim::service {
 struct ServerOptions {
   std::string listen_address = "127.0.0.1:50051";
   SessionDefaults sessions;
+  int workers = 0;  // tick pool threads; 0: the CPUs this process may use
   double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
   runtime::DdsOptions dds;
@@ -33,11 +35,13 @@ class ServerApp {
 
   SessionRegistry& registry() { return *registry_; }
   const ServerDds& dds() const { return *dds_; }
+  const TickPool& pool() const { return *pool_; }
   int bound_port() const { return bound_port_; }
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
   void Shutdown();
 
  private:
+  std::unique_ptr<TickPool> pool_;  // declared first: destroyed after everything that wakes it
   std::unique_ptr<ServerDds> dds_;
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;

@@ -1,10 +1,16 @@
-// A session: one scene stepped at a fixed rate (1 kHz for haptic scenes) on
-// its own thread. It talks to the rest of the server only through
-// latest-value mailboxes, so the tick never waits for DDS or gRPC:
-//   pose in      (DDS thread  -> tick)
-//   force model  (tick -> DDS thread, which then writes it)
-//   snapshot     (tick -> frame pump, at the viewer frame rate)
-// Control requests (pause, resume, reset) are atomics read once per tick.
+// A session: one scene, stepped one period per tick. The session is passive —
+// it owns no thread. A TickPool worker calls RunTick() when the session is
+// due: when its device's newest pose arrives (the device is the clock), or on
+// its own deadline when no device streams or the next pose is late by more
+// than the slack. Each tick assembles one TickInput, steps, writes the force
+// model at once through the sink (no hand-off to another thread), and every
+// 1/frame-rate publishes a snapshot for viewers from a preallocated ring.
+//
+// Threads:
+//   DDS thread    OfferPose()      -> pose mailbox, device ownership
+//   pool worker   RunTick()        (one at a time; never allocates)
+//   frame pump    TakeSnapshot()
+//   gRPC threads  RequestPause/Reset, counters, viewers
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -13,12 +19,15 @@
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/runtime/latest_value.h"
+#include "hapsim/service/device_ownership.h"
 #include "hapsim/service/scene_snapshot.h"
+#include "hapsim/service/snapshot_ring.h"
+#include "hapsim/service/tick_input.h"
+#include "hapsim/service/tick_pool.h"
 #include "haptics.h"
 
 namespace hapsim::service {
@@ -33,6 +42,9 @@ struct SessionConfig {
   double tick_period_s = 0.001;      // physics tick (1 kHz)
   double frame_rate_hz = 60.0;       // snapshots for viewers
   double pose_timeout_s = 0.25;      // no pose for this long: the tool is absent
+  // A streaming device's next pose may be this late before the session ticks
+  // on its own deadline instead (with the previous pose).
+  double pose_slack_s = 0.0005;
 };
 
 // A pose accepted by the DDS thread.
@@ -46,37 +58,58 @@ struct PoseSample {
 // Counters readable from any thread (gRPC handlers, logs).
 struct SessionCounters {
   std::atomic<std::uint64_t> ticks{0};
-  std::atomic<std::uint64_t> deadline_misses{0};
+  std::atomic<std::uint64_t> late_ticks{0};            // started > one period after due
+  std::atomic<std::uint64_t> device_clocked_ticks{0};  // run because a pose arrived
+  std::atomic<std::int64_t> max_lateness_ns{0};
   std::atomic<std::uint64_t> poses_received{0};
   std::atomic<std::uint64_t> poses_rejected{0};
+  std::atomic<std::uint64_t> poses_from_other_devices{0};
   std::atomic<std::uint64_t> force_models_sent{0};
+  std::atomic<std::uint64_t> force_model_write_failures{0};
+  std::atomic<std::uint64_t> snapshots_skipped{0};     // every ring buffer was still being read
   std::atomic<std::uint64_t> numerical_resets{0};
+  std::atomic<std::uint32_t> owning_device_id{0};
+  std::atomic<bool> device_streaming{false};
   std::atomic<double> sim_time_s{0.0};
   std::atomic<double> peak_tool_force_N{0.0};
   std::atomic<std::uint32_t> viewers{0};
 };
 
-class Session {
+// Where force models go: called on the worker thread right after the step;
+// must be thread-safe and must not block. Returns false if the write failed.
+using ForceModelSink = std::function<bool(const hapsim_dds_LocalForceModel&)>;
+
+class Session : public TickTask {
  public:
-  // Builds the scene (throws std::invalid_argument on bad scene/params).
-  // wake_dds is called (cheap, thread-safe) after each force model is posted.
-  Session(SessionConfig config, std::function<void()> wake_dds);
-  ~Session();  // stops the tick thread
+  // Takes a scene already built (outside every lock; see SessionRegistry).
+  // Throws std::invalid_argument on a bad tick period or frame rate.
+  Session(SessionConfig config, std::unique_ptr<core::Scene> scene, ForceModelSink sink);
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
-
-  void Start();
-  void Stop();
 
   const SessionConfig& config() const { return config_; }
   const std::string& id() const { return config_.id; }
   SessionCounters& counters() { return counters_; }
   const SessionCounters& counters() const { return counters_; }
   bool paused() const { return paused_.load(); }
+  std::int64_t period_ns() const { return period_ns_; }
 
-  // DDS thread only.
-  void OfferPose(const PoseSample& pose) { pose_inbox_.Publish(pose); }
-  bool TakeForceModel(hapsim_dds_LocalForceModel* out) { return force_outbox_.TakeIfNew(out); }
+  // DDS thread only. Offers a pose: false (and counted) if another device
+  // owns the session. On true, wake the session at PoseDueNs().
+  bool OfferPose(const PoseSample& pose);
+  // When a tick for a pose that arrived at arrival_ns may run: at once,
+  // unless the previous tick started less than half a period earlier (a
+  // device streaming faster than the tick rate must not speed up sim time).
+  std::int64_t PoseDueNs(std::int64_t arrival_ns) const;
+
+  // Pool worker (TickTask). One tick: input, step, force model, snapshot;
+  // returns the next deadline.
+  std::int64_t RunTick(std::int64_t due_ns, std::int64_t now_ns) override;
+
+  // Called with every TickInput before it is applied (on the worker; for
+  // recording and tests). Set before the session is added to a pool.
+  void SetTickObserver(std::function<void(const TickInput&)> observer) { tick_observer_ = std::move(observer); }
+  const core::Scene& scene() const { return *scene_; }  // only while no tick runs
 
   // Frame pump only.
   bool TakeSnapshot(std::shared_ptr<const SceneSnapshot>* out) { return snapshot_outbox_.TakeIfNew(out); }
@@ -95,32 +128,40 @@ class Session {
   std::shared_ptr<const SceneSnapshot> LatestSnapshot() const;
 
  private:
-  void Run();
-  void Tick(std::uint64_t tick_index, std::int64_t now_ns);
-  void PublishForceModel();
-  void PublishSnapshot();
+  TickInput AssembleInput(std::int64_t now_ns);
+  std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
+  void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns);
+  void PublishForceModel(const TickInput& in);
+  void PublishSnapshot(const TickInput& in);
 
   SessionConfig config_;
-  std::function<void()> wake_dds_;
+  std::int64_t period_ns_;
+  std::int64_t pose_timeout_ns_;
+  std::int64_t pose_slack_ns_;
   std::unique_ptr<core::Scene> scene_;
+  ForceModelSink sink_;
+  std::function<void(const TickInput&)> tick_observer_;
   SessionCounters counters_;
 
-  runtime::LatestValue<PoseSample> pose_inbox_;
-  runtime::LatestValue<hapsim_dds_LocalForceModel> force_outbox_;
-  runtime::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
+  // DDS thread state.
+  DeviceOwnership ownership_;
 
+  runtime::LatestValue<PoseSample> pose_inbox_;
+  runtime::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
   std::atomic<bool> paused_{false};
   std::atomic<std::uint32_t> reset_requests_{0};
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  std::atomic<std::int64_t> last_tick_start_ns_{0};  // written by the tick, read by the DDS thread
 
-  // Tick-thread state.
+  // Tick state (one worker at a time; the pool orders successive ticks).
   PoseSample last_pose_;
   bool have_pose_ = false;
+  std::uint64_t tick_index_ = 0;
   std::uint64_t force_seq_ = 0;
   std::uint64_t snapshot_id_ = 0;
   std::uint32_t resets_seen_ = 0;
   std::uint64_t ticks_per_frame_ = 16;
+  hapsim_dds_LocalForceModel force_model_{};
+  SnapshotRing snapshots_;
   std::shared_ptr<const std::vector<std::uint32_t>> triangles_;
   std::shared_ptr<const std::vector<core::SurfacePart>> parts_;
   std::shared_ptr<const std::vector<std::string>> layer_names_;

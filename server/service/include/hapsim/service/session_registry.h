@@ -1,17 +1,25 @@
-// The server's sessions by id. Thread-safe; no real-time thread touches it
-// (the DDS thread and frame pump take a snapshot of the list per pass).
+// The server's sessions by id.
+//
+// The real-time paths never wait for a control RPC: the DDS thread and the
+// frame pump read the sessions through an immutable, copy-on-write table
+// (Table(): one atomic load), never through the mutex that Create/Close take.
+// Create reserves the id under that mutex, builds the scene with no lock held
+// (on a low-priority thread, so a slow build yields the CPU to ticks), then
+// publishes a new table and hands the session to the tick pool.
 #pragma once
+#include <atomic>
 #include <cstddef>
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "hapsim/service/errors.h"
 #include "hapsim/service/session.h"
+#include "hapsim/service/tick_pool.h"
 
 namespace hapsim::service {
 
@@ -19,6 +27,7 @@ struct SessionDefaults {
   double tick_period_s = 0.001;
   double frame_rate_hz = 60.0;
   double pose_timeout_s = 0.25;
+  double pose_slack_s = 0.0005;
   std::size_t max_sessions = 64;
 };
 
@@ -26,29 +35,42 @@ struct SessionDefaults {
 // DDS field and appear in logs and file names).
 bool IsValidSessionId(std::string_view id);
 
+// An immutable view of the sessions at one instant, sorted by id.
+using SessionTable = std::map<std::string, std::shared_ptr<Session>, std::less<>>;
+
 class SessionRegistry {
  public:
-  SessionRegistry(SessionDefaults defaults, std::function<void()> wake_dds);
+  // pool runs the ticks; sink receives every session's force models.
+  SessionRegistry(SessionDefaults defaults, TickPool* pool, ForceModelSink sink);
   ~SessionRegistry();
 
-  // Builds and starts a session. Throws ServiceError: kInvalidArgument (bad
-  // id, unknown scene, bad parameter), kAlreadyExists, kResourceExhausted.
-  // config.tick_period_s etc. are taken from the defaults.
+  // Builds a session and starts its ticks. Throws ServiceError:
+  // kInvalidArgument (bad id, unknown scene, bad parameter), kAlreadyExists
+  // (also while a session of that id is being built), kResourceExhausted.
+  // configure, if given, is applied before the first tick (tests: observers).
   std::shared_ptr<Session> Create(std::string id, std::string scene, std::string owner,
-                                  std::map<std::string, double> params);
+                                  std::map<std::string, double> params,
+                                  const std::function<void(Session&)>& configure = {});
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
-  // Stops the session and ends its viewer streams. Throws kNotFound.
+  // Stops the session's ticks and ends its viewer streams. Throws kNotFound.
   void Close(std::string_view id);
   void CloseAll();
   std::vector<std::shared_ptr<Session>> List() const;  // sorted by id
+  // Lock-free read for the real-time paths.
+  std::shared_ptr<const SessionTable> Table() const { return table_.load(std::memory_order_acquire); }
 
  private:
+  void PublishTableLocked();
+
   SessionDefaults defaults_;
-  std::function<void()> wake_dds_;
-  mutable std::mutex mutex_;
-  std::map<std::string, std::shared_ptr<Session>, std::less<>> sessions_;
+  TickPool* pool_;
+  ForceModelSink sink_;
+  std::mutex mutex_;  // guards sessions_, reserved_, next_generated_id_; never taken by a tick or the DDS thread
+  SessionTable sessions_;
+  std::set<std::string, std::less<>> reserved_;  // ids being built
   std::uint64_t next_generated_id_ = 1;
+  std::atomic<std::shared_ptr<const SessionTable>> table_;
 };
 
 }  // namespace hapsim::service

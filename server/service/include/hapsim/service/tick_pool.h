@@ -1,0 +1,100 @@
+// TickPool: a small pool of worker threads that runs session ticks by
+// deadline. Each task (a session) has at most one pending tick, due at an
+// absolute time on the steady clock; workers take the earliest due tick,
+// run it, and re-queue the task at the deadline its tick returns. Wake()
+// brings a pending tick forward — that is how a device's pose clocks its
+// session: the DDS thread wakes the session "now" instead of letting it wait
+// for its timer.
+//
+// This is deadline scheduling, not work stealing: one mutex-guarded min-heap
+// of (due, task), held only for O(log n) pushes and pops, never while a tick
+// runs. A task never runs on two workers at once; a Wake() that arrives while
+// its tick runs is remembered and applied when the tick returns. Ticks due
+// within `coalesce_ns` of each other run back to back on one wake-up, so many
+// sessions on a shared timer grid cost one wake-up per period, not one each.
+#pragma once
+#include <condition_variable>
+#include <cstdint>
+#include <limits>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace hapsim::service {
+
+inline constexpr std::int64_t kNeverNs = std::numeric_limits<std::int64_t>::max();
+
+// Work the pool runs; subclass and implement RunTick.
+class TickTask {
+ public:
+  virtual ~TickTask() = default;
+  // Runs one tick that was due at due_ns (steady clock), on a pool worker;
+  // now_ns is when the worker took it. Returns when the next tick is due
+  // (kNeverNs: only when woken).
+  virtual std::int64_t RunTick(std::int64_t due_ns, std::int64_t now_ns) = 0;
+
+ private:
+  friend class TickPool;
+  // Scheduler bookkeeping, guarded by the pool's mutex.
+  std::int64_t queued_due_ns_ = kNeverNs;  // due time of the valid heap entry
+  std::int64_t rerun_due_ns_ = kNeverNs;   // earliest Wake() seen while running
+  std::uint64_t generation_ = 0;           // heap entries of older generations are stale
+  bool running_ = false;
+  bool registered_ = false;
+};
+
+struct TickPoolStats {
+  std::uint64_t ticks = 0;        // RunTick calls
+  std::uint64_t wakeups = 0;      // worker wake-ups (timer or notify)
+  std::uint64_t stale_pops = 0;   // heap entries superseded by a Wake()
+};
+
+class TickPool {
+ public:
+  // workers >= 1. Worker threads start at once.
+  explicit TickPool(int workers, std::int64_t coalesce_ns = 20'000);
+  ~TickPool();  // Stop()
+  TickPool(const TickPool&) = delete;
+  TickPool& operator=(const TickPool&) = delete;
+
+  // Starts scheduling task; its first tick is due at first_due_ns. The task
+  // must stay alive until Remove(task) has returned.
+  void Add(TickTask* task, std::int64_t first_due_ns);
+  // Stops scheduling task; waits until a tick of it that is running ends.
+  // Afterwards RunTick is never called again and Wake() on it is a no-op.
+  // Must not be called from inside that task's RunTick.
+  void Remove(TickTask* task);
+  // Brings the task's next tick forward to due_ns (no-op if it is already
+  // due earlier, or the task is not registered). Thread-safe, cheap.
+  void Wake(TickTask* task, std::int64_t due_ns);
+  // Ends the worker threads (pending ticks are dropped). Idempotent.
+  void Stop();
+
+  int workers() const { return static_cast<int>(threads_.size()); }
+  TickPoolStats stats() const;
+
+ private:
+  struct Entry {
+    std::int64_t due_ns;
+    std::uint64_t generation;
+    TickTask* task;
+  };
+  void WorkerLoop();
+  void PushLocked(TickTask* task, std::int64_t due_ns);
+  bool IsStaleLocked(const Entry& e) const;
+
+  const std::int64_t coalesce_ns_;
+  mutable std::mutex mutex_;
+  std::condition_variable work_cv_;     // workers wait here
+  std::condition_variable removed_cv_;  // Remove() waits here for a running tick
+  std::vector<Entry> heap_;             // min-heap on due_ns
+  bool stop_ = false;
+  TickPoolStats stats_;
+  std::vector<std::thread> threads_;
+};
+
+// Workers to use by default: the CPUs this process may run on (its affinity
+// mask, so `taskset -c 0 hapsim-server` gives 1), at least 1.
+int DefaultWorkerCount();
+
+}  // namespace hapsim::service
