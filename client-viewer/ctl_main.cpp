@@ -14,6 +14,7 @@
 
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/viewer/mesh_cache.h"
+#include "hapsim/viewer/session_client.h"
 
 namespace {
 
@@ -37,15 +38,17 @@ int Fail(const grpc::Status& s) {
 }
 
 void PrintInfo(const hapsim::v1::SessionInfo& i) {
-  std::printf("%s scene=%s owner=%s paused=%d sim_time_s=%.3f ticks=%llu deadline_misses=%llu viewers=%u "
-              "poses_received=%llu poses_rejected=%llu force_models_sent=%llu numerical_resets=%llu "
-              "peak_tool_force_n=%.4f\n",
+  using ull = unsigned long long;
+  std::printf("%s scene=%s owner=%s paused=%d sim_time_s=%.3f ticks=%llu late_ticks=%llu device_clocked_ticks=%llu "
+              "max_tick_lateness_s=%.6f viewers=%u poses_received=%llu poses_rejected=%llu "
+              "poses_from_other_devices=%llu device_streaming=%d owning_device_id=%u force_models_sent=%llu "
+              "numerical_resets=%llu peak_tool_force_n=%.4f\n",
               i.session_id().c_str(), i.scene().c_str(), i.owner().c_str(), i.paused() ? 1 : 0, i.sim_time_s(),
-              static_cast<unsigned long long>(i.ticks()), static_cast<unsigned long long>(i.deadline_misses()),
-              i.viewers(), static_cast<unsigned long long>(i.poses_received()),
-              static_cast<unsigned long long>(i.poses_rejected()),
-              static_cast<unsigned long long>(i.force_models_sent()),
-              static_cast<unsigned long long>(i.numerical_resets()), i.peak_tool_force_n());
+              static_cast<ull>(i.ticks()), static_cast<ull>(i.late_ticks()), static_cast<ull>(i.device_clocked_ticks()),
+              i.max_tick_lateness_s(), i.viewers(), static_cast<ull>(i.poses_received()),
+              static_cast<ull>(i.poses_rejected()), static_cast<ull>(i.poses_from_other_devices()),
+              i.device_streaming() ? 1 : 0, i.owning_device_id(), static_cast<ull>(i.force_models_sent()),
+              static_cast<ull>(i.numerical_resets()), i.peak_tool_force_n());
 }
 
 void PrintScores(const hapsim::v1::ScoreReport& r) {
@@ -148,15 +151,10 @@ int main(int argc, char** argv) {
     req.set_owner(option("--owner"));
     for (std::size_t i = 1; i + 1 < args.size(); ++i) {
       if (args[i] != "--param") continue;
-      const std::string& kv = args[i + 1];
-      const auto eq = kv.find('=');
-      char* end = nullptr;
-      const double value = eq == std::string::npos ? 0.0 : std::strtod(kv.c_str() + eq + 1, &end);
-      if (eq == std::string::npos || !end || *end != '\0') {
-        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", kv.c_str());
+      if (!hapsim::viewer::AddSceneParam(args[i + 1], req.mutable_params())) {
+        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
         return 2;
       }
-      (*req.mutable_params())[kv.substr(0, eq)] = value;
     }
     hapsim::v1::SessionInfo info;
     const auto s = stub->CreateSession(&ctx, req, &info);

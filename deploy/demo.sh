@@ -42,7 +42,7 @@ pids=()
 field() { sed -n "s|.*$1.*|\\1|p" "$2" | head -n1; }
 sessions=$(wc -l <"$out/sessions.txt")
 ticks=$(field ' ticks=\([0-9]*\)' "$out/sessions.txt")
-misses=$(field 'deadline_misses=\([0-9]*\)' "$out/sessions.txt")
+late=$(field 'late_ticks=\([0-9]*\)' "$out/sessions.txt")
 poses=$(field 'poses_received=\([0-9]*\)' "$out/sessions.txt")
 loop=$(field 'bridge: loop \([0-9.]* Hz\)' "$out/bridge.out")
 rtt=$(field 'bridge: round trip \(p50 [0-9.]* / p99 [0-9.]*\) ' "$out/bridge.out")
@@ -58,7 +58,7 @@ physics_force=$(field 'peak_tool_force_n=\([0-9.]*\)' "$out/sessions.txt")
 cat <<SUMMARY
 
 hapsim demo summary (${seconds} s on loopback, scene ${scene})
-  sessions            ${sessions} (demo: ${ticks} ticks at 1 kHz, ${misses} deadline misses)
+  sessions            ${sessions} (demo: ${ticks} ticks at 1 kHz, ${late} late ticks)
   pose rate           ${loop} from the bridge; ${poses} poses accepted by the server
   force-model RTT     ${rtt} ms (${models} models received by the bridge)
   viewer              ${frames} frames (${keyframes} keyframe), ${bytes} bytes, ${gaps} gaps; events:${events}

@@ -25,6 +25,27 @@ const char* ToString(WatchdogState s) {
 
 ForceSafety::ForceSafety(const SafetyConfig& config) : config_(config) { ValidateSafetyConfig(config_); }
 
+namespace {
+// 0 for no-model and fresh, then warn < fading < disarmed.
+int Severity(WatchdogState s) {
+  switch (s) {
+    case WatchdogState::kNoModel:
+    case WatchdogState::kFresh: return 0;
+    case WatchdogState::kWarn: return 1;
+    case WatchdogState::kFading: return 2;
+    case WatchdogState::kDisarmed: return 3;
+  }
+  return 0;
+}
+}  // namespace
+
+void ForceSafety::CountEscalation(WatchdogState next) {
+  const int from = Severity(state_), to = Severity(next);
+  if (from < 1 && to >= 1) ++counters_.warnings;
+  if (from < 2 && to >= 2) ++counters_.fades;
+  if (from < 3 && to >= 3) ++counters_.disarms;
+}
+
 Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_s, double dt_s) {
   Eigen::Vector3d f = requested;
   // 1. garbage in -> nothing out
@@ -60,7 +81,7 @@ Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_
     next = WatchdogState::kDisarmed;
     scale = 0.0;
   }
-  if (next == WatchdogState::kDisarmed && state_ != WatchdogState::kDisarmed) ++counters_.disarms;
+  CountEscalation(next);
   state_ = next;
   f *= scale;
   // 4. rise-rate limit (decreases pass at once)

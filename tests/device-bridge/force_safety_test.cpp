@@ -3,6 +3,7 @@
 #include "hapsim/bridge/force_safety.h"
 
 #include <cmath>
+#include <initializer_list>
 
 #include <gtest/gtest.h>
 
@@ -52,6 +53,34 @@ TEST(ForceSafety, WatchdogWarnsThenFadesLinearlyThenDisarms) {
   EXPECT_EQ(s.Apply(one, 0.100, kDt).norm(), 0.0);
   EXPECT_EQ(s.state(), WatchdogState::kDisarmed);
   EXPECT_EQ(s.counters().disarms, 1u);
+}
+
+// Watchdog events after one tick per model age, each asking for 1 N.
+SafetyCounters EventsAfterAges(std::initializer_list<double> ages_s) {
+  auto s = NoRiseLimit();
+  for (const double age_s : ages_s) s.Apply({0, 0, 1.0}, age_s, kDt);
+  return s.counters();
+}
+
+TEST(ForceSafety, CountsEachWatchdogEscalationOnceWhileItLasts) {
+  const SafetyCounters c = EventsAfterAges({0.001, 0.030, 0.031, 0.060, 0.070, 0.120, 0.130});
+  EXPECT_EQ(c.warnings, 1u);
+  EXPECT_EQ(c.fades, 1u);
+  EXPECT_EQ(c.disarms, 1u);
+}
+
+TEST(ForceSafety, AStallThatJumpsFromFreshToDisarmedCountsEveryStatePassed) {
+  const SafetyCounters c = EventsAfterAges({0.001, 0.250});
+  EXPECT_EQ(c.warnings, 1u);
+  EXPECT_EQ(c.fades, 1u);
+  EXPECT_EQ(c.disarms, 1u);
+}
+
+TEST(ForceSafety, EachReturnToStaleIsANewWarningEvent) {
+  const SafetyCounters c = EventsAfterAges({0.001, 0.025, 0.001, 0.025, 0.026, 0.001});
+  EXPECT_EQ(c.warnings, 2u);
+  EXPECT_EQ(c.fades, 0u);
+  EXPECT_EQ(c.disarms, 0u);
 }
 
 TEST(ForceSafety, StaysDisarmedUntilAFreshModelThenRampsUp) {

@@ -39,7 +39,7 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   const ServoReport r = loop.Run(stop);
 
   ASSERT_GT(r.trace.size(), 300u);
-  EXPECT_EQ(r.models_received, 1u);
+  EXPECT_EQ(r.channel.models_taken, 1u);
   // Before the fade (model younger than 50 ms) the force ramps at the rise
   // limit (50 N/s: 20 ms) up to the model's 1 N.
   double peak = 0.0;
@@ -53,7 +53,7 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   EXPECT_EQ(r.trace.back().watchdog, WatchdogState::kDisarmed);
   EXPECT_EQ(r.safety.disarms, 1u);
   // Never above the clamp.
-  EXPECT_LE(r.peak_force_N, config.safety.max_force_N + 1e-12);
+  EXPECT_LE(r.channel.peak_force_N, config.safety.max_force_N + 1e-12);
   // The last device command leaves the motors at zero force.
   EXPECT_EQ(device.last_force_W_N().norm(), 0.0);
 }

@@ -5,7 +5,9 @@
 //  3. staleness watchdog on the age of the newest force model (bridge clock):
 //     fresh < warn_age; warn (logged) from warn_age; fade linearly from
 //     fade_start_age to zero at disarm_age; disarmed (zero force) beyond,
-//     until a fresh model arrives. No model yet: zero force;
+//     until a fresh model arrives. No model yet: zero force. Entering warn,
+//     fading or disarmed is counted as an event; a jump past a state (a
+//     stall: fresh -> disarmed) counts every state the age went through;
 //  4. rise-rate limit: the magnitude may grow by at most max_rise_N_per_s
 //     per second (so re-arming or a sudden model jump never jolts the
 //     stylus); decreases pass at once — dropping force is always safe.
@@ -35,6 +37,8 @@ struct SafetyCounters {
   std::uint64_t non_finite = 0;   // ticks whose requested force was NaN/inf
   std::uint64_t clamped = 0;      // ticks cut to max_force_N
   std::uint64_t rate_limited = 0; // ticks held back by the rise limit
+  std::uint64_t warnings = 0;     // times the model age crossed warn_age (entered warn or beyond)
+  std::uint64_t fades = 0;        // times it crossed fade_start_age (entered fading or beyond)
   std::uint64_t disarms = 0;      // times the watchdog disarmed
 };
 
@@ -48,6 +52,8 @@ class ForceSafety {
   const SafetyCounters& counters() const { return counters_; }
 
  private:
+  void CountEscalation(WatchdogState next);
+
   SafetyConfig config_;
   WatchdogState state_ = WatchdogState::kNoModel;
   Eigen::Vector3d last_W_N_ = Eigen::Vector3d::Zero();

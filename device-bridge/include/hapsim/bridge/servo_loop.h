@@ -1,8 +1,9 @@
-// The 1 kHz servo loop: read the device, hand the pose to the DDS thread,
-// evaluate the newest local force model, pass it through ForceSafety,
-// command the device. No DDS call, lock, allocation or I/O happens inside a
-// tick: poses and models cross through latest-value mailboxes, and the trace
-// is a buffer reserved before the loop starts and written after it ends.
+// The bridge's 1 kHz servo loop: one ServoChannel (read the device, evaluate
+// the newest local force model, ForceSafety, command the device) on a
+// DeadlineTicker, handing each pose to the DDS thread. No DDS call, lock,
+// allocation or I/O happens inside a tick: poses and models cross through
+// latest-value mailboxes, and the trace is a buffer reserved before the loop
+// starts and written after it ends.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -10,22 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/bridge/device.h"
-#include "hapsim/bridge/force_safety.h"
-#include "hapsim/core/haptics/local_force_model.h"
-#include "hapsim/runtime/latest_value.h"
-#include "hapsim/runtime/stats.h"
-#include "haptics.h"
+#include "hapsim/bridge/servo_channel.h"
 
 namespace hapsim::bridge {
-
-// A force model as the DDS thread received it.
-struct ReceivedModel {
-  hapsim_dds_LocalForceModel msg{};
-  std::int64_t received_ns = 0;  // bridge steady clock
-};
-
-core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m);
 
 struct ServoConfig {
   std::uint32_t device_id = 1;
@@ -52,17 +40,12 @@ struct TraceRow {
 
 struct ServoReport {
   double elapsed_s = 0.0;
-  std::uint64_t ticks = 0;
   runtime::Percentiles period_error_s;  // |actual period - nominal|
   runtime::Percentiles model_age_s;     // age of the model used, per tick
   runtime::Percentiles round_trip_s;    // pose sent -> model echoing it received
-  std::uint64_t models_received = 0;
-  std::uint64_t echo_regressions = 0;   // a model echoing an older pose than the previous one
-  std::uint64_t first_echo_seq = 0, last_echo_seq = 0;
-  double peak_force_N = 0.0;            // commanded
-  double peak_force_pressing_N = 0.0;   // phases press/hold
-  double peak_force_withdrawn_N = 0.0;  // tip more than 1 mm above the surface after withdrawing
+  ChannelCounters channel;              // ticks, models taken, echoed seqs, force peaks
   SafetyCounters safety;
+  WatchdogState final_watchdog = WatchdogState::kNoModel;
   std::vector<TraceRow> trace;
 };
 

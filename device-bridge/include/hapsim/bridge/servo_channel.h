@@ -1,0 +1,100 @@
+// One device's share of a servo tick. The bridge's ServoLoop steps one
+// channel; hapsim-load steps many on one thread. A tick is two calls:
+//  Sense    read the device, fill the StylusPose for this tick and remember
+//           its send time by seq (to turn an echoed seq into a round trip);
+//  Actuate  take the newest force model from the device's inbox, record
+//           round trip and model age, evaluate the local force model, pass
+//           it through this device's ForceSafety and command the device.
+// The caller sends pose() in between. Nothing allocates after construction.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "hapsim/bridge/device.h"
+#include "hapsim/bridge/force_safety.h"
+#include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/runtime/latest_value.h"
+#include "hapsim/runtime/stats.h"
+#include "haptics.h"
+
+namespace hapsim::bridge {
+
+// A force model as a DDS receive thread took it.
+struct ReceivedModel {
+  hapsim_dds_LocalForceModel msg{};
+  std::int64_t received_ns = 0;  // this process's steady clock at arrival
+};
+
+core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m);
+
+struct ChannelConfig {
+  std::uint32_t device_id = 1;
+  std::string session = "demo";
+  double period_s = 0.001;             // servo period (the rise limit's dt)
+  SafetyConfig safety;
+  std::size_t stats_window = 1 << 17;  // recent samples kept for round-trip / model-age percentiles
+};
+
+// What the last tick did, for the caller's trace and pooled statistics.
+struct ChannelTick {
+  DeviceReading reading;
+  Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();  // from the local model (before safety)
+  Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
+  double model_age_s = -1.0;   // age of the model used; -1: none yet
+  double round_trip_s = -1.0;  // this tick's new model echoes a remembered pose: its round trip; else -1
+};
+
+struct ChannelCounters {
+  std::uint64_t ticks = 0;             // completed Actuate calls
+  std::uint64_t models_taken = 0;      // new models found in the inbox (older ones are overwritten unseen)
+  std::uint64_t echo_regressions = 0;  // a model echoing an older pose than the previous one
+  std::uint64_t first_echo_seq = 0, last_echo_seq = 0;  // valid when models_taken > 0
+  double peak_force_N = 0.0;            // commanded
+  double peak_force_pressing_N = 0.0;   // script phases press/hold
+  double peak_force_withdrawn_N = 0.0;  // tip more than 1 mm above the surface after withdrawing
+};
+
+class ServoChannel {
+ public:
+  ServoChannel(HapticDevice* device, const ChannelConfig& config);
+
+  // t_s: the device's time since its start (scripts and replays follow it).
+  const DeviceReading& Sense(double t_s);
+  const hapsim_dds_StylusPose& pose() const { return pose_; }
+  const ChannelTick& Actuate(runtime::LatestValue<ReceivedModel>& inbox);
+
+  const ChannelTick& last_tick() const { return tick_; }
+  const ChannelCounters& counters() const { return counters_; }
+  const SafetyCounters& safety_counters() const { return safety_.counters(); }
+  WatchdogState watchdog() const { return safety_.state(); }
+  std::uint8_t model_state() const { return have_model_ ? model_.msg.state : std::uint8_t{0}; }
+  std::uint32_t device_id() const { return pose_.device_id; }
+  runtime::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
+  runtime::Percentiles ModelAge() const { return model_age_s_.Summary(); }
+
+ private:
+  void TakeNewestModel(runtime::LatestValue<ReceivedModel>& inbox);
+  void RecordPeaks();
+
+  // Send time of each pose by seq; a model echoing a seq older than the ring
+  // gets no round trip.
+  static constexpr std::size_t kSentRing = 4096;
+
+  HapticDevice* device_;
+  double period_s_;
+  ForceSafety safety_;
+  hapsim_dds_StylusPose pose_{};
+  std::uint64_t next_seq_ = 0;
+  std::int64_t sensed_ns_ = 0;
+  std::array<std::uint64_t, kSentRing> sent_seq_;
+  std::array<std::int64_t, kSentRing> sent_ns_{};
+  bool have_model_ = false;
+  ReceivedModel model_;
+  core::LocalForceModel local_;
+  ChannelTick tick_;
+  ChannelCounters counters_;
+  runtime::SampleWindow round_trip_s_, model_age_s_;
+};
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,76 @@
+#include "hapsim/bridge/device_flags.h"
+
+#include <cstdio>
+
+#include "hapsim/runtime/logging.h"
+
+namespace hapsim::bridge {
+
+SyntheticScript ScriptFlags::ToScript() const {
+  SyntheticScript s;
+  s.kind = kind;
+  s.depth_m = depth_mm * 1e-3;
+  s.speed_m_per_s = speed_mm_s * 1e-3;
+  s.start_height_m = start_height_mm * 1e-3;
+  s.hold_s = hold_s;
+  s.entry_W_m = Eigen::Vector3d(entry_x_mm * 1e-3, entry_y_mm * 1e-3, 0.0);
+  s.seed = static_cast<std::uint32_t>(seed);
+  return s;
+}
+
+void AddScriptFlags(runtime::Flags& flags, ScriptFlags* s, const std::string& seed_help) {
+  flags.Add("script", &s->kind, "synthetic script: insertion, constant_speed, random_walk or hold");
+  flags.Add("depth-mm", &s->depth_mm, "synthetic: deepest tip position below the surface [mm]");
+  flags.Add("speed-mm-s", &s->speed_mm_s, "synthetic: tip speed [mm/s]");
+  flags.Add("start-height-mm", &s->start_height_mm, "synthetic: height above the surface where motion starts [mm]");
+  flags.Add("hold-s", &s->hold_s, "synthetic insertion: time held at depth [s]");
+  flags.Add("entry-x-mm", &s->entry_x_mm, "synthetic: x of the entry point on the surface [mm]");
+  flags.Add("entry-y-mm", &s->entry_y_mm, "synthetic: y of the entry point on the surface [mm]");
+  flags.Add("seed", &s->seed, seed_help);
+}
+
+SafetyConfig SafetyFlags::ToConfig() const {
+  SafetyConfig c;
+  c.max_force_N = max_force_N;
+  c.max_rise_N_per_s = max_rise_N_per_s;
+  c.warn_age_s = warn_ms * 1e-3;
+  c.fade_start_age_s = fade_ms * 1e-3;
+  c.disarm_age_s = disarm_ms * 1e-3;
+  ValidateSafetyConfig(c);
+  return c;
+}
+
+void AddSafetyFlags(runtime::Flags& flags, SafetyFlags* s) {
+  flags.Add("max-force-n", &s->max_force_N, "force clamp [N] (Phantom Omni peak: 3.3 N)");
+  flags.Add("max-force-rise-n-per-s", &s->max_rise_N_per_s, "largest rise of the force magnitude [N/s]");
+  flags.Add("watchdog-warn-ms", &s->warn_ms, "model older than this: warning [ms]");
+  flags.Add("watchdog-fade-ms", &s->fade_ms, "model older than this: force fades out [ms]");
+  flags.Add("watchdog-disarm-ms", &s->disarm_ms, "model older than this: zero force until a fresh model [ms]");
+}
+
+void AddProcessFlags(runtime::Flags& flags, ProcessFlags* p) {
+  flags.Add("dds-domain", &p->dds_domain, "DDS domain id (0..232)");
+  flags.Add("dds-config", &p->dds_config, "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else built-in loopback)");
+  flags.Add("log-level", &p->log_level, "trace, debug, info, warn, error or off");
+}
+
+int ParseCommandLine(runtime::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
+                     const char* log_name) {
+  std::string error;
+  switch (flags.Parse(argc, argv, &error)) {
+    case runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case runtime::Flags::Result::kError: std::fprintf(stderr, "%s: %s\n", program, error.c_str()); return 2;
+    case runtime::Flags::Result::kOk: break;
+  }
+  if (process.dds_domain < 0 || process.dds_domain > 232) {
+    std::fprintf(stderr, "%s: --dds-domain must be in 0..232\n", program);
+    return 2;
+  }
+  if (!runtime::SetUpLogging(log_name, process.log_level)) {
+    std::fprintf(stderr, "%s: unknown --log-level '%s'\n", program, process.log_level.c_str());
+    return 2;
+  }
+  return -1;
+}
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,100 @@
+#include "hapsim/bridge/servo_channel.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string_view>
+
+#include "hapsim/runtime/clock.h"
+
+namespace hapsim::bridge {
+
+core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m) {
+  core::LocalForceModel c;
+  c.state = m.state <= 3 ? static_cast<core::ContactState>(m.state) : core::ContactState::kFree;
+  c.anchor_W_m = {m.anchor_m[0], m.anchor_m[1], m.anchor_m[2]};
+  c.normal_W = {m.normal[0], m.normal[1], m.normal[2]};
+  c.stiffness_N_per_m = m.stiffness_n_per_m;
+  c.damping_Ns_per_m = m.damping_ns_per_m;
+  c.feedforward_W_N = {m.feedforward_n[0], m.feedforward_n[1], m.feedforward_n[2]};
+  return c;
+}
+
+ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
+    : device_(device),
+      period_s_(config.period_s),
+      safety_(config.safety),
+      round_trip_s_(config.stats_window),
+      model_age_s_(config.stats_window) {
+  pose_.device_id = config.device_id;
+  std::strncpy(pose_.session, config.session.c_str(), sizeof pose_.session - 1);
+  sent_seq_.fill(~0ull);
+}
+
+const DeviceReading& ServoChannel::Sense(double t_s) {
+  tick_.reading = device_->Read(t_s);
+  const DeviceReading& r = tick_.reading;
+  sensed_ns_ = runtime::SteadyNowNs();
+  const std::uint64_t seq = next_seq_++;
+  pose_.seq = seq;
+  pose_.t_device_ns = sensed_ns_;
+  for (int k = 0; k < 3; ++k) {
+    pose_.pos_m[k] = r.tip_W_m[k];
+    pose_.vel_m_per_s[k] = r.velocity_W_m_per_s[k];
+  }
+  pose_.quat_wxyz[0] = r.orientation_W.w();
+  pose_.quat_wxyz[1] = r.orientation_W.x();
+  pose_.quat_wxyz[2] = r.orientation_W.y();
+  pose_.quat_wxyz[3] = r.orientation_W.z();
+  pose_.buttons = r.buttons;
+  sent_seq_[seq % kSentRing] = seq;
+  sent_ns_[seq % kSentRing] = sensed_ns_;
+  return r;
+}
+
+void ServoChannel::TakeNewestModel(runtime::LatestValue<ReceivedModel>& inbox) {
+  tick_.round_trip_s = -1.0;
+  if (!inbox.TakeIfNew(&model_)) return;
+  const std::uint64_t echo = model_.msg.echo_pose_seq;
+  if (counters_.models_taken > 0 && echo < counters_.last_echo_seq) ++counters_.echo_regressions;
+  if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
+  counters_.last_echo_seq = echo;
+  ++counters_.models_taken;
+  if (sent_seq_[echo % kSentRing] == echo) {
+    tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo % kSentRing]) * 1e-9;
+    round_trip_s_.Record(tick_.round_trip_s);
+  }
+  local_ = ToCoreModel(model_.msg);
+  have_model_ = true;
+}
+
+const ChannelTick& ServoChannel::Actuate(runtime::LatestValue<ReceivedModel>& inbox) {
+  TakeNewestModel(inbox);
+  // A model can land between Sense's clock read and the take: age 0, not
+  // negative (negative means "no model" to the safety layer).
+  tick_.model_age_s =
+      have_model_ ? std::max(0.0, static_cast<double>(sensed_ns_ - model_.received_ns) * 1e-9) : -1.0;
+  if (have_model_) model_age_s_.Record(tick_.model_age_s);
+
+  const DeviceReading& r = tick_.reading;
+  tick_.requested_W_N = have_model_ ? core::EvaluateLocalForce(local_, r.tip_W_m, r.velocity_W_m_per_s)
+                                    : Eigen::Vector3d::Zero();
+  tick_.force_W_N = safety_.Apply(tick_.requested_W_N, tick_.model_age_s, period_s_);
+  device_->CommandForce(tick_.force_W_N);
+  RecordPeaks();
+  ++counters_.ticks;
+  return tick_;
+}
+
+void ServoChannel::RecordPeaks() {
+  const double magnitude = tick_.force_W_N.norm();
+  counters_.peak_force_N = std::max(counters_.peak_force_N, magnitude);
+  const std::string_view phase = tick_.reading.phase;
+  if (phase == "press" || phase == "hold") {
+    counters_.peak_force_pressing_N = std::max(counters_.peak_force_pressing_N, magnitude);
+  }
+  if (phase == "withdraw" && tick_.reading.tip_W_m.z() > 0.001) {
+    counters_.peak_force_withdrawn_N = std::max(counters_.peak_force_withdrawn_N, magnitude);
+  }
+}
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,115 @@
+// One device's servo tick: round trips come from the send time remembered
+// for the echoed seq, and a stale model drives the watchdog's event counters.
+#include "hapsim/bridge/servo_channel.h"
+
+#include <gtest/gtest.h>
+
+#include "backends/synthetic_device.h"
+#include "hapsim/runtime/clock.h"
+
+namespace hapsim::bridge {
+namespace {
+
+constexpr std::int64_t kMsNs = 1'000'000;
+
+SyntheticScript PressedTwoMillimetres() {
+  SyntheticScript script;
+  script.kind = "hold";
+  script.start_height_m = 0.0;
+  script.entry_W_m = Eigen::Vector3d(0, 0, -0.002);
+  return script;
+}
+
+ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns) {
+  ReceivedModel m;
+  m.msg.state = 1;
+  m.msg.normal[2] = 1.0;
+  m.msg.stiffness_n_per_m = 500.0;
+  m.msg.echo_pose_seq = echo_pose_seq;
+  m.received_ns = received_ns;
+  return m;
+}
+
+class ServoChannelTest : public ::testing::Test {
+ protected:
+  SyntheticDevice device_{PressedTwoMillimetres()};
+  runtime::LatestValue<ReceivedModel> inbox_;
+  ServoChannel channel_{&device_, ChannelConfig{7, "room-1", 0.001, {}, 1024}};
+};
+
+TEST_F(ServoChannelTest, SenseFillsThePoseWithThisDeviceSessionAndNextSeq) {
+  channel_.Sense(0.0);
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  EXPECT_EQ(channel_.pose().device_id, 7u);
+  EXPECT_STREQ(channel_.pose().session, "room-1");
+  EXPECT_EQ(channel_.pose().seq, 1u);
+  EXPECT_DOUBLE_EQ(channel_.pose().pos_m[2], -0.002);
+}
+
+TEST_F(ServoChannelTest, AModelEchoingAPoseGivesTheTimeFromSensingToArrival) {
+  channel_.Sense(0.0);
+  const std::int64_t sent_ns = channel_.pose().t_device_ns;
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  inbox_.Publish(ContactModel(0, sent_ns + 3 * kMsNs));
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_NEAR(tick.round_trip_s, 0.003, 1e-12);
+  EXPECT_EQ(channel_.RoundTrip().count, 1u);
+  EXPECT_EQ(channel_.counters().models_taken, 1u);
+  EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
+}
+
+TEST_F(ServoChannelTest, NoNewModelMeansNoRoundTripThisTick) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(0, runtime::SteadyNowNs()));
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
+  EXPECT_EQ(channel_.RoundTrip().count, 1u);
+  EXPECT_EQ(channel_.ModelAge().count, 2u);  // the held model still has an age each tick
+}
+
+TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(99, runtime::SteadyNowNs()));
+  EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
+  EXPECT_EQ(channel_.RoundTrip().count, 0u);
+}
+
+TEST_F(ServoChannelTest, AnEchoOlderThanThePreviousCountsAsARegression) {
+  for (std::uint64_t echo : {0u, 2u, 1u, 3u}) {
+    channel_.Sense(0.0);
+    inbox_.Publish(ContactModel(echo, runtime::SteadyNowNs()));
+    channel_.Actuate(inbox_);
+  }
+  EXPECT_EQ(channel_.counters().echo_regressions, 1u);
+  EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
+  EXPECT_EQ(channel_.counters().last_echo_seq, 3u);
+}
+
+TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZeroForce) {
+  // The same model ever older: received 30, then 70, then 200 ms before the tick.
+  for (const std::int64_t age_ms : {30, 70, 200, 210}) {
+    channel_.Sense(0.0);
+    inbox_.Publish(ContactModel(0, runtime::SteadyNowNs() - age_ms * kMsNs));
+    channel_.Actuate(inbox_);
+  }
+  EXPECT_EQ(channel_.safety_counters().warnings, 1u);
+  EXPECT_EQ(channel_.safety_counters().fades, 1u);
+  EXPECT_EQ(channel_.safety_counters().disarms, 1u);
+  EXPECT_EQ(channel_.watchdog(), WatchdogState::kDisarmed);
+  EXPECT_EQ(device_.last_force_W_N().norm(), 0.0);
+}
+
+TEST_F(ServoChannelTest, AFreshContactModelPushesTheToolOutOfTheTissue) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(0, runtime::SteadyNowNs()));
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);  // 500 N/m * 2 mm
+  EXPECT_NEAR(tick.force_W_N.z(), 0.05, 1e-9);     // first tick: rise limit 50 N/s * 1 ms
+  EXPECT_EQ(device_.last_force_W_N(), tick.force_W_N);
+}
+
+}  // namespace
+}  // namespace hapsim::bridge
