@@ -1,0 +1,200 @@
+#include "hapsim/bridge/load_report_format.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "hapsim/bridge/json_writer.h"
+
+namespace hapsim::bridge {
+
+namespace {
+
+constexpr double kMs = 1e3;
+
+std::string Printf(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string Printf(const char* format, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  return buf;
+}
+
+unsigned long long U(std::uint64_t v) { return static_cast<unsigned long long>(v); }
+
+void PercentilesMs(JsonWriter& w, const char* key, const runtime::Percentiles& p) {
+  w.BeginObject(key);
+  w.Field("count", static_cast<std::uint64_t>(p.count));
+  w.Field("p50", p.p50 * kMs);
+  w.Field("p99", p.p99 * kMs);
+  w.Field("max", p.max * kMs);
+  w.Field("mean", p.mean * kMs);
+  w.EndObject();
+}
+
+void FlowJson(JsonWriter& w, const LoadFlow& f) {
+  w.Field("poses_sent", f.poses_sent);
+  w.Field("pose_write_failures", f.pose_write_failures);
+  w.Field("pose_rate_hz", f.pose_rate_hz);
+  w.Field("models_received", f.models_received);
+  w.Field("models_used", f.models_used);
+  w.Field("echo_regressions", f.echo_regressions);
+  PercentilesMs(w, "round_trip_ms", f.round_trip_s);
+  PercentilesMs(w, "model_age_ms", f.model_age_s);
+  w.Field("watchdog_warnings", f.safety.warnings);
+  w.Field("watchdog_fades", f.safety.fades);
+  w.Field("watchdog_disarms", f.safety.disarms);
+  w.Field("force_clamps", f.safety.clamped);
+  w.Field("force_rise_limited", f.safety.rate_limited);
+  w.Field("non_finite_forces", f.safety.non_finite);
+}
+
+void DeviceJson(JsonWriter& w, const LoadDeviceReport& d) {
+  w.BeginObject();
+  w.Field("device_id", static_cast<std::uint64_t>(d.device_id));
+  w.Field("session", d.session);
+  FlowJson(w, d.flow);
+  w.Field("first_echo_seq", d.first_echo_seq);
+  w.Field("last_echo_seq", d.last_echo_seq);
+  w.Field("final_watchdog", ToString(d.final_watchdog));
+  w.Field("peak_force_n", d.peak_force_N);
+  w.EndObject();
+}
+
+void TotalJson(JsonWriter& w, const LoadTotals& t) {
+  w.BeginObject("total");
+  w.Field("devices", static_cast<std::uint64_t>(t.devices));
+  w.Field("devices_with_models", static_cast<std::uint64_t>(t.devices_with_models));
+  w.Field("devices_disarmed", static_cast<std::uint64_t>(t.devices_disarmed));
+  FlowJson(w, t.flow);
+  w.EndObject();
+}
+
+void ServerJson(JsonWriter& w, const ServerSessionStats& s) {
+  w.BeginObject();
+  w.Field("session_id", s.session_id);
+  if (!s.error.empty()) {
+    w.Field("error", s.error);
+    w.EndObject();
+    return;
+  }
+  w.Field("ticks", s.ticks);
+  w.Field("late_ticks", s.late_ticks);
+  w.Field("device_clocked_ticks", s.device_clocked_ticks);
+  w.Field("max_tick_lateness_ms", s.max_tick_lateness_s * kMs);
+  w.Field("poses_received", s.poses_received);
+  w.Field("poses_rejected", s.poses_rejected);
+  w.Field("poses_from_other_devices", s.poses_from_other_devices);
+  w.Field("force_models_sent", s.force_models_sent);
+  w.Field("owning_device_id", static_cast<std::uint64_t>(s.owning_device_id));
+  w.Field("device_streaming", s.device_streaming);
+  w.EndObject();
+}
+
+std::string TableRow(const std::string& device, const std::string& session, const LoadFlow& f,
+                     const std::string& echo) {
+  const runtime::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
+  return Printf("%-8s %-14s %8.1f %8llu  %6.3f %6.3f %7.3f  %6.3f %6.3f %7.3f  %-22s %5llu %5llu %6llu %7llu\n",
+                device.c_str(), session.c_str(), f.pose_rate_hz, U(f.models_received), rtt.p50 * kMs, rtt.p99 * kMs,
+                rtt.max * kMs, age.p50 * kMs, age.p99 * kMs, age.max * kMs, echo.c_str(), U(f.safety.warnings),
+                U(f.safety.fades), U(f.safety.disarms), U(f.safety.clamped));
+}
+
+// The CSV columns after device_id,session (one function, so the total row
+// cannot drift from the device rows).
+std::string CsvFlowAndEcho(const LoadFlow& f, std::uint64_t first_echo, std::uint64_t last_echo,
+                           const char* final_watchdog) {
+  const runtime::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
+  return Printf("%llu,%.3f,%llu,%llu,%llu,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%s\n",
+                U(f.poses_sent), f.pose_rate_hz, U(f.models_received), U(f.models_used), U(first_echo),
+                U(last_echo), U(f.echo_regressions), rtt.p50 * kMs, rtt.p99 * kMs, rtt.max * kMs, age.p50 * kMs,
+                age.p99 * kMs, age.max * kMs, U(f.safety.warnings), U(f.safety.fades), U(f.safety.disarms),
+                U(f.safety.clamped), final_watchdog);
+}
+
+}  // namespace
+
+std::string FormatLoadTable(const LoadReport& r) {
+  std::string out = Printf("hapsim-load: %zu devices, %.2f s at %.0f Hz\n", r.devices.size(), r.elapsed_s, r.rate_hz);
+  out += Printf("%-8s %-14s %8s %8s  %-22s  %-22s  %-22s %5s %5s %6s %7s\n", "device", "session", "poses/s",
+                "models", "round trip p50/p99/max", "model age p50/p99/max", "echoed seq (regr.)", "warn", "fade",
+                "disarm", "clamps");
+  for (const auto& d : r.devices) {
+    const std::string echo = d.flow.models_used ? Printf("%llu->%llu (%llu)", U(d.first_echo_seq),
+                                                         U(d.last_echo_seq), U(d.flow.echo_regressions))
+                                                : "none";
+    out += TableRow(std::to_string(d.device_id), d.session, d.flow, echo);
+  }
+  const LoadTotals& t = r.total;
+  out += TableRow("total", Printf("%zu/%zu w/ models", t.devices_with_models, t.devices), t.flow,
+                  Printf("regressions %llu", U(t.flow.echo_regressions)));
+  out += "(times in ms)\n";
+  out += Printf("servo thread: %llu ticks, lateness %s, work per tick %s, re-anchors %llu\n", U(r.servo.ticks),
+                runtime::FormatPercentiles(r.servo.lateness_s, kMs, "ms").c_str(),
+                runtime::FormatPercentiles(r.servo.work_s, kMs, "ms").c_str(), U(r.servo.reanchors));
+  out += Printf("models dropped: %llu for other devices, %llu for our devices but another session\n",
+                U(r.models_for_unknown_devices), U(r.models_for_other_sessions));
+  if (!r.server.empty()) {
+    out += Printf("%-14s %9s %10s %14s %13s %9s %6s\n", "server:session", "ticks", "late_ticks", "device_clocked",
+                  "max_late_ms", "streaming", "owner");
+    for (const auto& s : r.server) {
+      if (!s.error.empty()) {
+        out += Printf("%-14s %s\n", s.session_id.c_str(), s.error.c_str());
+        continue;
+      }
+      out += Printf("%-14s %9llu %10llu %14llu %13.3f %9s %6u\n", s.session_id.c_str(), U(s.ticks), U(s.late_ticks),
+                    U(s.device_clocked_ticks), s.max_tick_lateness_s * kMs, s.device_streaming ? "yes" : "no",
+                    s.owning_device_id);
+    }
+  }
+  return out;
+}
+
+std::string FormatLoadJson(const LoadReport& r) {
+  JsonWriter w;
+  w.BeginObject();
+  w.Field("rate_hz", r.rate_hz);
+  w.Field("elapsed_s", r.elapsed_s);
+  w.BeginObject("servo_thread");
+  w.Field("ticks", r.servo.ticks);
+  w.Field("reanchors", r.servo.reanchors);
+  PercentilesMs(w, "lateness_ms", r.servo.lateness_s);
+  PercentilesMs(w, "work_ms", r.servo.work_s);
+  w.EndObject();
+  w.Field("models_for_unknown_devices", r.models_for_unknown_devices);
+  w.Field("models_for_other_sessions", r.models_for_other_sessions);
+  TotalJson(w, r.total);
+  w.BeginArray("per_device");
+  for (const auto& d : r.devices) DeviceJson(w, d);
+  w.EndArray();
+  if (!r.server.empty()) {
+    w.BeginArray("server_sessions");
+    for (const auto& s : r.server) ServerJson(w, s);
+    w.EndArray();
+  }
+  w.EndObject();
+  return w.text();
+}
+
+std::string FormatLoadCsv(const LoadReport& r) {
+  std::string out =
+      "device_id,session,poses_sent,pose_rate_hz,models_received,models_used,first_echo_seq,last_echo_seq,"
+      "echo_regressions,round_trip_p50_ms,round_trip_p99_ms,round_trip_max_ms,model_age_p50_ms,model_age_p99_ms,"
+      "model_age_max_ms,watchdog_warnings,watchdog_fades,watchdog_disarms,force_clamps,final_watchdog\n";
+  for (const auto& d : r.devices) {
+    out += std::to_string(d.device_id) + "," + d.session + "," +
+           CsvFlowAndEcho(d.flow, d.first_echo_seq, d.last_echo_seq, ToString(d.final_watchdog));
+  }
+  out += "total,," + CsvFlowAndEcho(r.total.flow, 0, 0, "");
+  return out;
+}
+
+bool WriteTextFile(const std::string& path, const std::string& text) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  return std::fclose(f) == 0 && written;
+}
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,84 @@
+// hapsim-load's servo thread against an instant in-process "server" that
+// answers every pose with a model echoing it: each device sees only its own
+// echoes, in order, with a round trip.
+#include "hapsim/bridge/load_runner.h"
+
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "hapsim/runtime/clock.h"
+
+namespace hapsim::bridge {
+namespace {
+
+std::vector<LoadDevicePlan> ThreeDevices() {
+  LoadPlanOptions o;
+  o.devices = 3;
+  o.first_device_id = 40;
+  o.script.kind = "random_walk";
+  return PlanDevices(o);
+}
+
+std::vector<std::string> SessionsOf(const std::vector<LoadDevicePlan>& plan) {
+  std::vector<std::string> sessions;
+  for (const auto& d : plan) sessions.push_back(d.session);
+  return sessions;
+}
+
+LoadRunConfig ShortRun() {
+  LoadRunConfig c;
+  c.run_seconds = 0.05;
+  return c;
+}
+
+TEST(LoadRunner, EachDeviceReceivesItsOwnEchoesInOrderWithARoundTrip) {
+  const auto plan = ThreeDevices();
+  ModelRouter router(plan.front().device_id, SessionsOf(plan));
+  // The echo runs on the servo thread, which is then the inboxes' only producer.
+  LoadRunner runner(plan, ShortRun(), &router, [&router](const hapsim_dds_StylusPose& pose) {
+    hapsim_dds_LocalForceModel model{};
+    model.device_id = pose.device_id;
+    std::memcpy(model.session, pose.session, sizeof model.session);
+    model.echo_pose_seq = pose.seq;
+    router.Route(model, runtime::SteadyNowNs());
+    return true;
+  });
+  std::atomic<bool> stop{false};
+  const LoadReport r = runner.Run(stop);
+  ASSERT_EQ(r.devices.size(), 3u);
+  EXPECT_GT(r.servo.ticks, 10u);
+  for (const auto& d : r.devices) {
+    EXPECT_EQ(d.flow.poses_sent, r.servo.ticks) << d.session;
+    EXPECT_EQ(d.flow.models_used, d.flow.poses_sent) << d.session;
+    EXPECT_EQ(d.first_echo_seq, 0u) << d.session;
+    EXPECT_EQ(d.last_echo_seq, d.flow.poses_sent - 1) << d.session;
+    EXPECT_EQ(d.flow.echo_regressions, 0u) << d.session;
+    EXPECT_EQ(d.flow.round_trip_s.count, d.flow.poses_sent) << d.session;
+    EXPECT_EQ(d.flow.safety.disarms, 0u) << d.session;
+  }
+  EXPECT_EQ(r.total.flow.round_trip_s.count, 3 * r.servo.ticks);
+  EXPECT_EQ(r.models_for_other_sessions + r.models_for_unknown_devices, 0u);
+}
+
+TEST(LoadRunner, RefusedPoseWritesAreCountedAndNoModelMeansNoModelState) {
+  const auto plan = ThreeDevices();
+  ModelRouter router(plan.front().device_id, SessionsOf(plan));
+  LoadRunner runner(plan, ShortRun(), &router, [](const hapsim_dds_StylusPose&) { return false; });
+  std::atomic<bool> stop{false};
+  const LoadReport r = runner.Run(stop);
+  for (const auto& d : r.devices) {
+    EXPECT_EQ(d.flow.poses_sent, 0u);
+    EXPECT_EQ(d.flow.pose_write_failures, r.servo.ticks);
+    EXPECT_EQ(d.final_watchdog, WatchdogState::kNoModel);
+  }
+  EXPECT_EQ(r.total.devices_with_models, 0u);
+}
+
+TEST(StatsWindowPerDevice, HoldsABoundedRunWithinTheBudget) {
+  EXPECT_GE(StatsWindowPerDevice(20.0, 1000.0, 64), 20'000u);
+  EXPECT_LE(StatsWindowPerDevice(3600.0, 1000.0, 64) * 64, std::size_t{1} << 22);
+}
+
+}  // namespace
+}  // namespace hapsim::bridge
