@@ -1,6 +1,6 @@
 #include "hapsim/core/msm/msm_state.h"
 
-#include <cstring>
+#include "hapsim/core/state_hash.h"
 
 namespace hapsim::core {
 
@@ -13,23 +13,8 @@ MsmState MakeMsmState(const MsmModel& model) {
   return s;
 }
 
-namespace {
-std::uint64_t Fnv1a(std::uint64_t h, const void* data, std::size_t bytes) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t k = 0; k < bytes; ++k) {
-    h ^= p[k];
-    h *= 1099511628211ull;
-  }
-  return h;
-}
-}  // namespace
-
 std::uint64_t StateHash(const MsmState& s) {
-  std::uint64_t h = 14695981039346656037ull;
-  h = Fnv1a(h, &s.t_s, sizeof(s.t_s));
-  h = Fnv1a(h, s.x_m.data(), sizeof(double) * static_cast<std::size_t>(s.x_m.size()));
-  h = Fnv1a(h, s.v_m_per_s.data(), sizeof(double) * static_cast<std::size_t>(s.v_m_per_s.size()));
-  return h;
+  return StateHasher().Add(s.t_s).Add(s.x_m).Add(s.v_m_per_s).Value();
 }
 
 }  // namespace hapsim::core

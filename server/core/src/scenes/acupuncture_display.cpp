@@ -56,8 +56,7 @@ void AcupunctureScene::BuildDisplay() {
   for (auto& near : patch_near_net_) near.reserve(static_cast<std::size_t>(patch_vertices_));
   for (auto& q : patch_near_q_) q.reserve(static_cast<std::size_t>(patch_vertices_));
   vertices_m_.resize(3, total_patch + kNeedleVertices);
-  vertices_m_.leftCols(total_patch) = patch_rest_W_m_;
-  UpdateNeedleMesh(Eigen::Vector3d(0, 0, 0.05), -Eigen::Vector3d::UnitZ());
+  vertices_m_.leftCols(total_patch) = patch_rest_W_m_;  // the needle is placed by ResetState()
 }
 
 void AcupunctureScene::ShowNet(int layer) {

@@ -19,8 +19,10 @@ struct Field {
 
 std::vector<Field> Fields() {
   std::vector<Field> f = {
-      {"shf_lmax", 1, 30, [](auto& p, double v) { p.shf_lmax = static_cast<int>(v); }, true},
-      {"shf_samples", 16, 20000, [](auto& p, double v) { p.shf_samples = static_cast<int>(v); }, true},
+      {"shf_lmax", 1, AcupunctureLimits::kMaxShfLmax, [](auto& p, double v) { p.shf_lmax = static_cast<int>(v); },
+       true},
+      {"shf_samples", 16, AcupunctureLimits::kMaxShfSamples,
+       [](auto& p, double v) { p.shf_samples = static_cast<int>(v); }, true},
       {"net_tension_ratio", 1e-3, 1e4, [](auto& p, double v) { p.net_tension_ratio = v; }},
       {"ring_w_threshold_ratio", 1e-6, 0.5, [](auto& p, double v) { p.ring_w_threshold_ratio = v; }},
       {"springback_eta0", 0, 1, [](auto& p, double v) { p.springback_eta0 = v; }},
@@ -29,7 +31,8 @@ std::vector<Field> Fields() {
       {"render_stiffness_max_N_per_m", 1, 1e5, [](auto& p, double v) { p.render_stiffness_max_N_per_m = v; }},
       {"contact_damping_Ns_per_m", 0, 100, [](auto& p, double v) { p.contact_damping_Ns_per_m = v; }},
       {"patch_size_m", 0.005, 0.2, [](auto& p, double v) { p.patch_size_m = v; }},
-      {"patch_grid_nodes", 2, 201, [](auto& p, double v) { p.patch_grid_nodes = static_cast<int>(v); }, true},
+      {"patch_grid_nodes", 2, AcupunctureLimits::kMaxPatchGridNodes,
+       [](auto& p, double v) { p.patch_grid_nodes = static_cast<int>(v); }, true},
   };
   const char* names[kNumTissueLayers] = {"skin", "fat", "muscle"};
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
@@ -37,7 +40,7 @@ std::vector<Field> Fields() {
     f.push_back({n + "_thickness_m", 1e-5, 0.05, [i](auto& p, double v) { p.layers[i].thickness_m = v; }});
     f.push_back({n + "_K_N_per_m", 1e-3, 1e6, [i](auto& p, double v) { p.layers[i].virtual_K_N_per_m = v; }});
     f.push_back({n + "_d_Ns_per_m2", 0, 1e6, [i](auto& p, double v) { p.layers[i].damping_Ns_per_m2 = v; }});
-    f.push_back({n + "_rings", 2, 30, [i](auto& p, double v) { p.layers[i].rings_w = static_cast<int>(v); }, true});
+    f.push_back({n + "_rings", 2, AcupunctureLimits::kMaxRings, [i](auto& p, double v) { p.layers[i].rings_w = static_cast<int>(v); }, true});
     f.push_back({n + "_spacing_m", 1e-5, 0.01, [i](auto& p, double v) { p.layers[i].spacing_L_m = v; }});
   }
   return f;
@@ -65,6 +68,15 @@ AcupunctureParams ParseAcupunctureParams(const std::map<std::string, double>& pa
       throw std::invalid_argument(msg.str());
     }
     field->set(p, value);
+  }
+  // A least-squares fit of (Lmax+1)^2 coefficients needs at least as many samples.
+  const int coefficients = (p.shf_lmax + 1) * (p.shf_lmax + 1);
+  if (p.shf_samples < coefficients) {
+    std::ostringstream msg;
+    msg << "acupuncture: parameter 'shf_samples' = " << p.shf_samples << " must be in [" << coefficients << ", "
+        << AcupunctureLimits::kMaxShfSamples << "] for 'shf_lmax' = " << p.shf_lmax
+        << " (at least (shf_lmax+1)^2 samples per fit)";
+    throw std::invalid_argument(msg.str());
   }
   // Nested layers need room below: the muscle bottom must stay inside the body.
   double total_m = 0.0;

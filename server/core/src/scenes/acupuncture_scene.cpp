@@ -21,6 +21,7 @@ ForceNetDef NetDef(const AcupunctureParams& p, const TissueLayer& layer) {
 }
 
 constexpr int kMaxTransitionsPerTick = 8;  // bounds event spam from a pathological pose
+constexpr double kNeedleRestHeight_m = 0.05;  // initial needle: tip this far above the skin, pointing down
 
 }  // namespace
 
@@ -59,11 +60,34 @@ void AcupunctureScene::ResetState() {
   force_model_ = LocalForceModel{};
   status_.current_layer = -1;
   status_.tip_depth_m = 0.0;
+  UpdateNeedleMesh(Eigen::Vector3d(0, 0, kNeedleRestHeight_m), -Eigen::Vector3d::UnitZ());
 }
 
 void AcupunctureScene::Reset() {
   ResetState();
   Log(SceneEventKind::kReset, -1, Eigen::Vector3d::Zero());
+  reset_epoch_ = ResetEpoch::Now(*this);
+}
+
+std::uint64_t AcupunctureScene::StateHash() const {
+  StateHasher h;
+  AddCommonSceneState(h, *this, reset_epoch_);
+  h.Add(pressing_).Add(punctured_).Add(entry_W_m_).Add(entry_axis_W_).Add(depth_m_).Add(shaft_damping_Ns_per_m_);
+  // Left out as pure functions of what is hashed: each net's rest lattice
+  // (placement n1_rest + normal) and the patch vertices' ring coordinates q.
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    const ForceNetState& s = net_states_[i];
+    h.Add(s.n1_rest_W_m).Add(s.normal_W).Add(s.x_W_m).Add(s.ring_Z_m).Add(s.anchored);
+    h.Add(eta_[i]).Add(net_shown_[i]).Add(net_moved_[i]).Add(springing_back_[i]);
+    h.Add(punctured_once_[i]).Add(puncture_tip_W_m_[i]);
+    // Displayed patch: only the vertices near a placed net ever leave rest.
+    h.Add(patch_near_net_[i].size()).Add(patch_near_net_[i]);
+    for (const std::int32_t v : patch_near_net_[i]) h.AddBytes(vertices_m_.col(v).data(), 3 * sizeof(double));
+  }
+  const Eigen::Index needle_first = static_cast<Eigen::Index>(kNumTissueLayers) * patch_vertices_;
+  h.AddBytes(vertices_m_.col(needle_first).data(),
+             3 * sizeof(double) * static_cast<std::size_t>(vertices_m_.cols() - needle_first));
+  return h.Value();
 }
 
 void AcupunctureScene::NumericalReset() {

@@ -22,7 +22,8 @@ struct MsmState {
 // State at rest in the model's initial configuration.
 MsmState MakeMsmState(const MsmModel& model);
 
-// FNV-1a over the exact bytes of t, x and v: equal hashes <=> bit-identical.
+// FNV-1a (StateHasher) over the exact bytes of t, x and v: equal hashes <=>
+// bit-identical. Scenes hash more of the state (Scene::StateHash).
 std::uint64_t StateHash(const MsmState& state);
 
 }  // namespace hapsim::core

@@ -2,16 +2,23 @@
 // units). Every key is optional; unknown keys and out-of-range values throw
 // std::invalid_argument naming the key.
 //
-//   shf_lmax (8), shf_samples (600)         SH degree / samples per layer fit
+//   shf_lmax (8, [1, 16]), shf_samples (600, [(shf_lmax+1)^2, 3000])
+//                                            SH degree / samples per layer fit
 //   net_tension_ratio (30)                   k_s / K of the force-net surface springs
 //   ring_w_threshold_ratio (0.02)            ζ / L: ring w counts as deformed at Z_w >= ζ
 //   springback_eta0 (1), springback_eta_rate_per_step (0.02)   η start and η_r
 //   tunnel_stiffness_N_per_m (300)           lateral needle-tunnel stiffness after puncture
 //   render_stiffness_max_N_per_m (2000)      cap on the contact stiffness sent to the device
 //   contact_damping_Ns_per_m (0.5)           damper in the local contact model (device only)
-//   patch_size_m (0.06), patch_grid_nodes (41)   displayed square of each layer surface
+//   patch_size_m (0.06), patch_grid_nodes (41, [2, 101])   displayed square of each layer surface
 //   <layer>_thickness_m, <layer>_K_N_per_m, <layer>_d_Ns_per_m2, <layer>_rings,
-//   <layer>_spacing_m for layer in skin, fat, muscle   (defaults: Table 2, tissue_layers.h)
+//   <layer>_spacing_m for layer in skin, fat, muscle   (defaults: Table 2, tissue_layers.h;
+//   <layer>_rings in [2, 30])
+//
+// The SH fit (4 surfaces, SVD of shf_samples x (shf_lmax+1)^2) dominates the
+// build, the patches and nets the tick: AcupunctureLimits keep the worst
+// accepted combination under ~1 s to build and ~0.3 ms per tick
+// (docs/scene-limits.md).
 #pragma once
 #include <array>
 #include <map>
@@ -20,6 +27,13 @@
 #include "hapsim/core/needle/tissue_layers.h"
 
 namespace hapsim::core {
+
+struct AcupunctureLimits {
+  static constexpr int kMaxShfLmax = 16;
+  static constexpr int kMaxShfSamples = 3000;
+  static constexpr int kMaxPatchGridNodes = 101;
+  static constexpr int kMaxRings = 30;
+};
 
 struct AcupunctureParams {
   int shf_lmax = 8;

@@ -32,7 +32,8 @@
 //
 // Mesh: three square patches of the skin/fat/muscle surfaces around the
 // site (radially displaced by their nets) and a needle, parts "skin", "fat",
-// "muscle", "needle". Topology never changes.
+// "muscle", "needle". Topology never changes. Reset() also puts the needle
+// back to its initial pose (tip 5 cm above the skin, pointing down).
 #pragma once
 #include <array>
 #include <map>
@@ -45,6 +46,7 @@
 #include "hapsim/core/scenes/acupuncture_params.h"
 #include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
+#include "hapsim/core/scenes/scene_state_hash.h"
 #include "hapsim/core/shf/layered_sh_body.h"
 
 namespace hapsim::core {
@@ -66,6 +68,7 @@ class AcupunctureScene final : public Scene {
   std::span<const SceneEvent> Events() const override { return events_.View(); }
   std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
   const SceneStatus& Status() const override { return status_; }
+  std::uint64_t StateHash() const override;
 
   // Diagnostics for validation and tests.
   const AcupunctureParams& Params() const { return params_; }
@@ -120,6 +123,7 @@ class AcupunctureScene final : public Scene {
   LocalForceModel force_model_;
   EventLog events_;
   SceneStatus status_;
+  ResetEpoch reset_epoch_;
 
   // Display.
   int patch_vertices_ = 0;           // per layer

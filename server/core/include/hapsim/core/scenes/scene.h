@@ -97,6 +97,26 @@ class Scene {
   // a consumer can tell which of Events() it has not seen yet.
   virtual std::uint64_t EventsTotal() const = 0;
   virtual const SceneStatus& Status() const = 0;
+
+  // Deterministic 64-bit hash (FNV-1a, state_hash.h) of every piece of
+  // mutable state that influences future steps or what the scene shows:
+  // node positions and velocities, forces held on nodes, sim time, contact /
+  // puncture / layer state, needle state, the outputs of the last step
+  // (force, force model, status) and the event and numerical-reset counts.
+  // Same sequence of Step()/Reset() calls from a fresh scene => same hash
+  // (on every run, thread count and spring kernel); any divergence of that
+  // state changes it. Scratch buffers and caches that are a pure function of
+  // hashed state are left out.
+  //
+  // Counters that Reset() deliberately keeps (EventsTotal(),
+  // Status().numerical_resets) enter as their increase since the last
+  // Reset() (the kReset event itself not counted), so right after Reset()
+  // the hash equals a fresh scene's: nothing before a Reset() influences
+  // anything after it but those running totals.
+  //
+  // Never allocates; O(state size) — tens of µs for the default scenes, so
+  // call it at checkpoints (tests, recordings), not necessarily every tick.
+  virtual std::uint64_t StateHash() const = 0;
 };
 
 // Which scene to build and its parameters (SI, names with units, e.g.

@@ -24,6 +24,12 @@
 //   midpoint_alpha, local_update_hops (0 = integrate every node; N > 0 =
 //   while in contact, integrate only nodes within N spring hops of the
 //   contact, the gingival paper's local update), max_kinetic_energy_J.
+//
+// Cost limits (docs/scene-limits.md): grid_nodes <= 101, dt_s >= 1e-6 s and
+// TissueBlockStepCost() <= kMaxStepCost, so a client cannot ask for a tick
+// that takes more than ~0.3 ms of CPU. Backward Euler runs at most
+// kMaxCgIterations conjugate-gradient iterations per sub-step (the default
+// tissue converges in ~10); a stiffer system gets the truncated solve.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -39,11 +45,12 @@
 #include "hapsim/core/msm/units.h"
 #include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
+#include "hapsim/core/scenes/scene_state_hash.h"
 
 namespace hapsim::core {
 
 struct TissueBlockParams {
-  int grid_nodes = 21;                      // nodes per side (>= 3)
+  int grid_nodes = 21;                      // nodes per side, [3, 101]
   double size_m = 0.06;                     // side length of the patch [m]
   // Skin spring stiffness of the acupuncture/cutting papers, K = 0.16 N/mm.
   double spring_stiffness_N_per_m = units::NPerMmToNPerM(0.16);
@@ -67,12 +74,35 @@ struct TissueBlockParams {
   double max_kinetic_energy_J = 10.0;
 };
 
+// What a client may ask for, so that a build takes milliseconds and one 1 ms
+// Step() at most ~0.3 ms of CPU (measured: docs/scene-limits.md).
+struct TissueBlockLimits {
+  static constexpr int kMaxGridNodes = 101;
+  // 1000 sub-steps per 1 ms tick; Step() never runs more (kMaxSubsteps).
+  static constexpr double kMinDt_s = 1e-6;
+  static constexpr int kMaxCgIterations = 20;  // backward Euler, per sub-step
+  // Budget for TissueBlockStepCost(): 1 unit ~ 13 ns here; the worst
+  // accepted combinations measured p50 <= 0.17 ms, p99 <= 0.19 ms.
+  static constexpr double kMaxStepCost = 12000.0;
+};
+
+// Estimated CPU cost of one 1 ms Step() in node updates (one node through
+// one symplectic Euler sub-step):
+//   grid_nodes^2 x ceil(1 ms / dt_s) x integrator factor
+//   (explicit 1.5, symplectic 1, improved 1.5, midpoint 2.5, RK4 5,
+//    backward Euler 4 + 1.1 per CG iteration = 26),
+// with local_update_hops > 0 times 1.15 (indexed node lists; a step out of
+// contact still updates every node) plus 8 per node of the region
+// re-selected when the contact moves (at most once per Step()).
+double TissueBlockStepCost(const TissueBlockParams& params);
+
 // The scene's mass-spring grid as a plain definition (also used by the
 // validation and the benchmarks to build larger patches of the same tissue).
 MsmDef MakeTissueGridDef(const TissueBlockParams& params);
 
-// Parses and range-checks params; unknown keys and bad values throw
-// std::invalid_argument naming the key.
+// Parses and range-checks params, including TissueBlockLimits; unknown keys
+// and bad values throw std::invalid_argument naming the key(s) and the
+// allowed range.
 TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& params);
 
 class TissueBlockScene final : public Scene {
@@ -94,6 +124,7 @@ class TissueBlockScene final : public Scene {
   std::span<const SceneEvent> Events() const override { return events_.View(); }
   std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
   const SceneStatus& Status() const override { return status_; }
+  std::uint64_t StateHash() const override;
 
   // For tests and tools.
   const MsmModel& Model() const { return model_; }
@@ -124,7 +155,10 @@ class TissueBlockScene final : public Scene {
   MsmState initial_state_;
   MsmWorkspace workspace_;
   LocalRegion region_;
-  std::int32_t region_seed_ = -1;               // node the current region is centred on
+  // Node the region is centred on: a cache (the region is a pure function of
+  // it), kept across contact breaks so a chattering contact does not
+  // re-select the region every sub-step.
+  std::int32_t region_seed_ = -1;
   double critical_dt_s_ = 0.0;
   double spacing_m_ = 0.0;
   std::array<std::int32_t, 4> loaded_nodes_{};  // nodes carrying contact f_ext
@@ -136,6 +170,7 @@ class TissueBlockScene final : public Scene {
   Eigen::Vector3d tool_force_W_N_ = Eigen::Vector3d::Zero();
   EventLog events_;
   SceneStatus status_;
+  ResetEpoch reset_epoch_;
 };
 
 }  // namespace hapsim::core
