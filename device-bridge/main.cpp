@@ -32,6 +32,8 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
   std::printf("bridge: poses sent %llu; force models received %llu (echoed pose seq %llu -> %llu, regressions %llu)\n",
               static_cast<ull>(dds.poses_written()), static_cast<ull>(c.models_taken), static_cast<ull>(c.first_echo_seq),
               static_cast<ull>(c.last_echo_seq), static_cast<ull>(c.echo_regressions));
+  std::printf("bridge: DDS partition %s; models for other sessions or devices %llu (expected 0)\n",
+              hapsim::runtime::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,
@@ -115,6 +117,10 @@ int main(int argc, char** argv) {
       spdlog::info("servo loop at {} Hz on device {} for session '{}'", rate_hz, device->Name(), session);
       report = servo.Run(stop);
       device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
+    }
+    if (dds.matched_servers() == 0) {
+      spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
+                   session, hapsim::runtime::SessionPartition(session));
     }
     dds.Stop();
     if (!trace_file.empty() && !hapsim::bridge::WriteTraceCsv(trace_file, report.trace)) {

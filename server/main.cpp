@@ -38,11 +38,11 @@ bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std
 void PrintSummary(hapsim::service::ServerApp& app) {
   const auto& d = app.dds().counters();
   const auto pool = app.pool().stats();
-  std::printf("server: poses accepted %llu, rejected %llu, unknown-session %llu, other-device %llu; "
+  std::printf("server: poses accepted %llu, rejected %llu, wrong-session %llu, other-device %llu; "
               "force models written %llu; tick pool %d workers, %llu ticks, %llu wake-ups\n",
               static_cast<unsigned long long>(d.poses_accepted.load()),
               static_cast<unsigned long long>(d.poses_rejected.load()),
-              static_cast<unsigned long long>(d.poses_unknown_session.load()),
+              static_cast<unsigned long long>(d.poses_wrong_session.load()),
               static_cast<unsigned long long>(d.poses_other_device.load()),
               static_cast<unsigned long long>(d.force_models_written.load()), app.pool().workers(),
               static_cast<unsigned long long>(pool.ticks), static_cast<unsigned long long>(pool.wakeups));

@@ -2,6 +2,7 @@
 // oversized messages and viewers that vanish mid-stream. In every case the
 // caller gets a clear status and the server keeps ticking.
 #include <chrono>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -128,32 +129,128 @@ TEST_F(ServerAppTest, OversizedMessageIsRefusedAndServerStaysUp) {
 TEST_F(ServerAppTest, NanPosesAreDroppedAndCountedWhileTheSessionKeepsTicking) {
   ASSERT_TRUE(Create("nan").ok());
   runtime::DdsParticipant participant({domain_, ""});
-  runtime::DdsWriter<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose");
+  runtime::DdsWriter<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose",
+                                                   runtime::SessionPartition("nan"));
   hapsim_dds_StylusPose pose{};
   pose.device_id = 7;
   std::strcpy(pose.session, "nan");
   pose.quat_wxyz[0] = 1.0;
   pose.pos_m[0] = std::nan("");
-  hapsim_dds_StylusPose stranger = pose;
-  std::strcpy(stranger.session, "nobody");
-  stranger.pos_m[0] = 0.0;
   // Keep sending until discovery has matched and enough samples arrived
   // (bounded: at most 3 s).
   const auto& c = app_->dds().counters();
-  for (int i = 0; i < 3000 && (c.poses_rejected.load() < 50 || c.poses_unknown_session.load() < 5); ++i) {
+  for (int i = 0; i < 3000 && c.poses_rejected.load() < 50; ++i) {
     pose.seq = static_cast<std::uint64_t>(i);
     writer.Write(pose);
-    writer.Write(stranger);
     std::this_thread::sleep_for(1ms);
   }
   EXPECT_GE(c.poses_rejected.load(), 50u);
-  EXPECT_GE(c.poses_unknown_session.load(), 5u);
   const auto info = Info("nan");
   EXPECT_GE(info.poses_rejected(), 50u);
   EXPECT_EQ(info.poses_received(), 0u);
   EXPECT_EQ(info.numerical_resets(), 0u);
   std::this_thread::sleep_for(50ms);
   EXPECT_GT(Info("nan").ticks(), info.ticks());  // still ticking
+}
+
+// A device of one session, on its own participant (as a bridge process is):
+// publishes poses and counts the models it receives, by session.
+struct TestDevice {
+  TestDevice(std::uint32_t domain, const std::string& partition_session, std::uint32_t device_id)
+      : participant({domain, ""}),
+        writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose", runtime::SessionPartition(partition_session)),
+        reader(participant, &hapsim_dds_LocalForceModel_desc, "hapsim_LocalForceModel",
+               runtime::SessionPartition(partition_session)) {
+    pose.device_id = device_id;
+    std::strncpy(pose.session, partition_session.c_str(), sizeof pose.session - 1);
+    pose.quat_wxyz[0] = 1.0;
+    pose.pos_m[2] = 0.002;
+  }
+  void SendAndReceive() {
+    ++pose.seq;
+    writer.Write(pose);
+    std::array<hapsim_dds_LocalForceModel, 16> models;
+    for (std::size_t n = reader.Take(models), i = 0; i < n; ++i) {
+      if (std::string_view(models[i].session) == std::string_view(pose.session)) {
+        ++models_own;
+      } else {
+        ++models_other;
+      }
+    }
+  }
+  runtime::DdsParticipant participant;
+  runtime::DdsWriter<hapsim_dds_StylusPose> writer;
+  runtime::DdsReader<hapsim_dds_LocalForceModel> reader;
+  hapsim_dds_StylusPose pose{};
+  std::uint64_t models_own = 0, models_other = 0;
+};
+
+TEST_F(ServerAppTest, EachDeviceReceivesOnlyItsOwnSessionsModels) {
+  ASSERT_TRUE(Create("room-a").ok());
+  ASSERT_TRUE(Create("room-b").ok());
+  TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
+  for (int i = 0; i < 3000 && (a.models_own < 200 || b.models_own < 200); ++i) {
+    a.SendAndReceive();
+    b.SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_GE(a.models_own, 200u);
+  EXPECT_GE(b.models_own, 200u);
+  EXPECT_EQ(a.models_other, 0u);
+  EXPECT_EQ(b.models_other, 0u);
+  EXPECT_EQ(Info("room-a").owning_device_id(), 1u);
+  EXPECT_EQ(Info("room-b").owning_device_id(), 2u);
+}
+
+TEST_F(ServerAppTest, APoseNamingAnotherSessionInsideAPartitionMovesNeitherAndIsCounted) {
+  ASSERT_TRUE(Create("room-a").ok());
+  ASSERT_TRUE(Create("room-b").ok());
+  TestDevice intruder(domain_, "room-a", 9);
+  std::strcpy(intruder.pose.session, "room-b");  // published in room-a's partition
+  intruder.pose.pos_m[2] = -0.01;                // would press 1 cm deep
+  const auto& c = app_->dds().counters();
+  for (int i = 0; i < 3000 && c.poses_wrong_session.load() < 50; ++i) {
+    intruder.SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_GE(c.poses_wrong_session.load(), 50u);
+  EXPECT_GE(Info("room-a").poses_wrong_session(), 50u);
+  for (const char* id : {"room-a", "room-b"}) {
+    const auto info = Info(id);
+    EXPECT_EQ(info.poses_received(), 0u) << id;
+    EXPECT_EQ(info.force_models_sent(), 0u) << id;
+    EXPECT_EQ(info.peak_tool_force_n(), 0.0) << id;
+  }
+  EXPECT_EQ(intruder.models_own + intruder.models_other, 0u);
+}
+
+TEST_F(ServerAppTest, ClosingASessionStopsItsModelsWhileTheOtherSessionContinues) {
+  ASSERT_TRUE(Create("room-a").ok());
+  ASSERT_TRUE(Create("room-b").ok());
+  TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
+  for (int i = 0; i < 3000 && (a.models_own < 100 || b.models_own < 100); ++i) {
+    a.SendAndReceive();
+    b.SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+  ASSERT_GE(a.models_own, 100u);
+  grpc::ClientContext ctx;
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("room-a");
+  hapsim::v1::CloseSessionResponse closed;
+  ASSERT_TRUE(sessions_->CloseSession(&ctx, ref, &closed).ok());
+  for (int i = 0; i < 20; ++i) {  // drain what was already in flight
+    a.SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+  const auto a_before = a.models_own, b_before = b.models_own;
+  for (int i = 0; i < 200; ++i) {
+    a.SendAndReceive();
+    b.SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+  EXPECT_EQ(a.models_own, a_before);  // a bridge still publishing gets nothing back
+  EXPECT_GT(b.models_own, b_before + 100);
 }
 
 TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {

@@ -21,15 +21,25 @@ struct CapturedModels {
   hapsim_dds_LocalForceModel last{};
 };
 
+// An in-memory port: keeps the newest force model.
+class CapturingPort : public SessionPort {
+ public:
+  explicit CapturingPort(CapturedModels* models) : models_(models) {}
+  bool WriteForceModel(const hapsim_dds_LocalForceModel& m) override {
+    ++models_->count;
+    models_->last = m;
+    return true;
+  }
+
+ private:
+  CapturedModels* models_;
+};
+
 std::unique_ptr<Session> MakeSession(const std::string& scene, CapturedModels* models) {
   SessionConfig config;
   config.id = "tick-test";
   config.scene = scene;
-  return std::make_unique<Session>(config, core::MakeScene({scene, {}}), [models](const hapsim_dds_LocalForceModel& m) {
-    ++models->count;
-    models->last = m;
-    return true;
-  });
+  return std::make_unique<Session>(config, core::MakeScene({scene, {}}), std::make_shared<CapturingPort>(models));
 }
 
 // A needle above the centre moving down 1 µm per tick from 2 mm above z = 0.

@@ -1,5 +1,6 @@
 #include "hapsim/runtime/dds.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <mutex>
 
@@ -81,20 +82,60 @@ dds_qos_t* HapsimQos() {
 }
 }  // namespace
 
-dds_entity_t CreateWriterOrThrow(const DdsParticipant& p, dds_entity_t topic) {
-  dds_qos_t* qos = HapsimQos();
-  const dds_entity_t w = dds_create_writer(p.handle(), topic, qos, nullptr);
-  dds_delete_qos(qos);
-  if (w < 0) throw DdsError("cannot create DDS writer", w);
-  return w;
+std::string SessionPartition(std::string_view session_id) {
+  static constexpr char kHex[] = "0123456789ABCDEF";
+  std::string out = "hapsim_s_";
+  for (const char ch : session_id) {
+    const auto c = static_cast<unsigned char>(ch);
+    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-';
+    if (plain) {
+      out += static_cast<char>(c);
+    } else {
+      out += '_';
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
 }
 
-dds_entity_t CreateReaderOrThrow(const DdsParticipant& p, dds_entity_t topic) {
+namespace {
+
+// A publisher (for_writer) or subscriber in one partition, or none.
+DdsEntity PartitionParent(const DdsParticipant& p, const std::string& partition, bool for_writer) {
+  if (partition.empty()) return DdsEntity();
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_partition1(qos, partition.c_str());
+  const dds_entity_t e = for_writer ? dds_create_publisher(p.handle(), qos, nullptr)
+                                    : dds_create_subscriber(p.handle(), qos, nullptr);
+  dds_delete_qos(qos);
+  if (e < 0) throw DdsError("cannot create DDS " + std::string(for_writer ? "publisher" : "subscriber") +
+                                " for partition " + partition, e);
+  return DdsEntity(e);
+}
+
+}  // namespace
+
+DdsEndpoint CreateWriterOrThrow(const DdsParticipant& p, dds_entity_t topic, const std::string& partition) {
+  DdsEndpoint out;
+  out.parent = PartitionParent(p, partition, /*for_writer=*/true);
   dds_qos_t* qos = HapsimQos();
-  const dds_entity_t r = dds_create_reader(p.handle(), topic, qos, nullptr);
+  const dds_entity_t w = dds_create_writer(partition.empty() ? p.handle() : out.parent.handle(), topic, qos, nullptr);
+  dds_delete_qos(qos);
+  if (w < 0) throw DdsError("cannot create DDS writer", w);
+  out.endpoint = DdsEntity(w);
+  return out;
+}
+
+DdsEndpoint CreateReaderOrThrow(const DdsParticipant& p, dds_entity_t topic, const std::string& partition) {
+  DdsEndpoint out;
+  out.parent = PartitionParent(p, partition, /*for_writer=*/false);
+  dds_qos_t* qos = HapsimQos();
+  const dds_entity_t r = dds_create_reader(partition.empty() ? p.handle() : out.parent.handle(), topic, qos, nullptr);
   dds_delete_qos(qos);
   if (r < 0) throw DdsError("cannot create DDS reader", r);
-  return r;
+  out.endpoint = DdsEntity(r);
+  return out;
 }
 
 DdsWaitSet::DdsWaitSet(const DdsParticipant& p) {
@@ -104,7 +145,7 @@ DdsWaitSet::DdsWaitSet(const DdsParticipant& p) {
   const dds_entity_t gc = dds_create_guardcondition(p.handle());
   if (gc < 0) throw DdsError("cannot create DDS guard condition", gc);
   guard_ = DdsEntity(gc);
-  const dds_return_t rc = dds_waitset_attach(ws, gc, 0);
+  const dds_return_t rc = dds_waitset_attach(ws, gc, kGuardTag);
   if (rc < 0) throw DdsError("cannot attach guard condition", rc);
 }
 
@@ -115,6 +156,23 @@ void DdsWaitSet::AttachReader(dds_entity_t reader) {
   read_conditions_[n_read_conditions_++] = DdsEntity(rc);
   const dds_return_t r = dds_waitset_attach(waitset_.handle(), rc, reader);
   if (r < 0) throw DdsError("cannot attach read condition", r);
+}
+
+DdsEntity DdsWaitSet::AttachReaderTagged(dds_entity_t reader, dds_attach_t tag) {
+  const dds_entity_t rc = dds_create_readcondition(reader, DDS_ANY_STATE);
+  if (rc < 0) throw DdsError("cannot create read condition", rc);
+  DdsEntity condition(rc);
+  const dds_return_t r = dds_waitset_attach(waitset_.handle(), rc, tag);
+  if (r < 0) throw DdsError("cannot attach read condition", r);
+  return condition;
+}
+
+std::size_t DdsWaitSet::WaitTriggered(std::int64_t timeout_ns, std::span<dds_attach_t> tags) {
+  const dds_return_t n = dds_waitset_wait(waitset_.handle(), tags.data(), tags.size(), timeout_ns);
+  bool was = false;
+  dds_take_guardcondition(guard_.handle(), &was);
+  if (n <= 0) return 0;
+  return std::min(static_cast<std::size_t>(n), tags.size());
 }
 
 void DdsWaitSet::Wake() { dds_set_guardcondition(guard_.handle(), true); }

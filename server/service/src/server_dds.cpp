@@ -1,5 +1,6 @@
 #include "hapsim/service/server_dds.h"
 
+#include <algorithm>
 #include <array>
 
 #include <spdlog/spdlog.h>
@@ -11,20 +12,50 @@ namespace hapsim::service {
 namespace {
 constexpr const char* kPoseTopic = "hapsim_StylusPose";
 constexpr const char* kModelTopic = "hapsim_LocalForceModel";
-constexpr std::int64_t kWaitTimeoutNs = 5'000'000;       // wake at least every 5 ms
+constexpr std::int64_t kWaitTimeoutNs = 5'000'000;          // wake at least every 5 ms
 constexpr std::int64_t kWarningIntervalNs = 2'000'000'000;  // rate-limit bad-input warnings
 }  // namespace
 
+// One session's endpoints in its partition.
+class ServerDds::Port : public SessionPort {
+ public:
+  Port(ServerDds* owner, const std::string& session_id)
+      : owner_(owner),
+        partition_(runtime::SessionPartition(session_id)),
+        pose_reader_(owner->participant_, &hapsim_dds_StylusPose_desc, kPoseTopic, partition_),
+        model_writer_(owner->participant_, &hapsim_dds_LocalForceModel_desc, kModelTopic, partition_) {}
+
+  bool WriteForceModel(const hapsim_dds_LocalForceModel& model) override {
+    if (model_writer_.Write(model)) {
+      owner_->counters_.force_models_written.fetch_add(1, std::memory_order_relaxed);
+      return true;
+    }
+    owner_->counters_.write_failures.fetch_add(1, std::memory_order_relaxed);
+    return false;
+  }
+  void StartReceiving(Session* session) override {
+    condition_ = owner_->waitset_.AttachReaderTagged(pose_reader_.handle(), reinterpret_cast<dds_attach_t>(session));
+  }
+  void StopReceiving() override { condition_.Reset(); }  // deleting the condition detaches it
+
+  runtime::DdsReader<hapsim_dds_StylusPose>& pose_reader() { return pose_reader_; }
+
+ private:
+  ServerDds* owner_;
+  std::string partition_;
+  runtime::DdsReader<hapsim_dds_StylusPose> pose_reader_;
+  runtime::DdsWriter<hapsim_dds_LocalForceModel> model_writer_;
+  runtime::DdsEntity condition_;
+};
+
 ServerDds::ServerDds(const runtime::DdsOptions& options, PoseLimits limits)
-    : participant_(options),
-      pose_reader_(participant_, &hapsim_dds_StylusPose_desc, kPoseTopic),
-      model_writer_(participant_, &hapsim_dds_LocalForceModel_desc, kModelTopic),
-      waitset_(participant_),
-      limits_(limits) {
-  waitset_.AttachReader(pose_reader_.handle());
-}
+    : participant_(options), waitset_(participant_), limits_(limits) {}
 
 ServerDds::~ServerDds() { Stop(); }
+
+std::shared_ptr<SessionPort> ServerDds::Open(const std::string& session_id) {
+  return std::make_shared<Port>(this, session_id);
+}
 
 void ServerDds::Start(SessionRegistry* registry, TickPool* pool) {
   registry_ = registry;
@@ -37,69 +68,82 @@ void ServerDds::Stop() {
   stop_ = true;
   waitset_.Wake();
   if (thread_.joinable()) thread_.join();
+  table_.reset();
+  index_.clear();
+}
+
+void ServerDds::RefreshIndex() {
+  auto table = registry_->Table();
+  if (table == table_) return;
+  table_ = std::move(table);
+  index_.clear();
+  for (const auto& [id, session] : *table_) index_.push_back(session.get());
+  std::sort(index_.begin(), index_.end());
 }
 
 void ServerDds::Run() {
+  std::array<dds_attach_t, 64> tags;
   while (!stop_.load()) {
-    waitset_.Wait(kWaitTimeoutNs);
-    RoutePoses();
+    const std::size_t n = waitset_.WaitTriggered(kWaitTimeoutNs, tags);
+    RefreshIndex();  // holds the table: the sessions it names stay alive this pass
+    for (std::size_t i = 0; i < n; ++i) {
+      if (tags[i] == runtime::DdsWaitSet::kGuardTag) continue;
+      auto* session = reinterpret_cast<Session*>(tags[i]);
+      // A tag is trusted only if the session is in the table we hold (a
+      // closing session is removed from the table before its reader is
+      // detached, a new one attached after it is published).
+      if (!std::binary_search(index_.begin(), index_.end(), session)) continue;
+      RoutePoses(*session, static_cast<Port&>(session->port()));
+    }
   }
 }
 
-void ServerDds::RoutePoses() {
+void ServerDds::RoutePoses(Session& session, Port& port) {
   std::array<hapsim_dds_StylusPose, 64> batch;
   for (;;) {
-    const std::size_t n = pose_reader_.Take(batch);
+    const std::size_t n = port.pose_reader().Take(batch);
     if (n == 0) return;
     const std::int64_t now = runtime::SteadyNowNs();
-    const auto table = registry_->Table();  // copy-on-write: no lock shared with control RPCs
+    bool offered = false;
     for (std::size_t i = 0; i < n; ++i) {
       const auto& sample = batch[i];
       PoseRejection why = PoseRejection::kNone;
       const auto tool = FilterPose(sample, limits_, &why);
-      const std::string_view sid = SessionIdOf(sample.session);
-      const auto found = sid.empty() ? table->end() : table->find(sid);
-      Session* session = found == table->end() ? nullptr : found->second.get();
       if (!tool) {
         counters_.poses_rejected.fetch_add(1);
-        if (session) session->counters().poses_rejected.fetch_add(1);
+        session.counters().poses_rejected.fetch_add(1);
         if (now - last_warning_ns_ > kWarningIntervalNs) {
           last_warning_ns_ = now;
-          spdlog::warn("dropped a pose from device {} (session '{}'): {}", sample.device_id, sid, ToString(why));
+          spdlog::warn("dropped a pose from device {} (session '{}'): {}", sample.device_id, session.id(),
+                       ToString(why));
         }
         continue;
       }
-      if (!session) {
-        counters_.poses_unknown_session.fetch_add(1);
+      if (SessionIdOf(sample.session) != session.id()) {
+        counters_.poses_wrong_session.fetch_add(1);
+        session.counters().poses_wrong_session.fetch_add(1);
         if (now - last_warning_ns_ > kWarningIntervalNs) {
           last_warning_ns_ = now;
-          spdlog::warn("pose from device {} for unknown session '{}' ignored", sample.device_id, sid);
+          spdlog::warn("pose from device {} naming session '{}' arrived in the partition of session '{}': dropped",
+                       sample.device_id, SessionIdOf(sample.session), session.id());
         }
         continue;
       }
-      if (!session->OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now})) {
+      if (!session.OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now})) {
         counters_.poses_other_device.fetch_add(1);
         if (now - last_warning_ns_ > kWarningIntervalNs) {
           last_warning_ns_ = now;
-          spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id, sid,
-                       session->counters().owning_device_id.load());
+          spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id,
+                       session.id(), session.counters().owning_device_id.load());
         }
         continue;
       }
       counters_.poses_accepted.fetch_add(1);
-      pool_->Wake(session, session->PoseDueNs(now));
+      offered = true;
     }
+    if (offered) pool_->Wake(&session, session.PoseDueNs(now));
     if (n < batch.size()) return;
   }
-}
-
-bool ServerDds::WriteForceModel(const hapsim_dds_LocalForceModel& model) {
-  if (model_writer_.Write(model)) {
-    counters_.force_models_written.fetch_add(1, std::memory_order_relaxed);
-    return true;
-  }
-  counters_.write_failures.fetch_add(1, std::memory_order_relaxed);
-  return false;
 }
 
 }  // namespace hapsim::service

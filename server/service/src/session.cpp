@@ -25,16 +25,17 @@ constexpr std::size_t kRecentEvents = 64;  // events carried by each snapshot
 
 }  // namespace
 
-Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, ForceModelSink sink)
+Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port)
     : config_(std::move(config)),
       period_ns_(SecondsToNs(config_.tick_period_s)),
       pose_timeout_ns_(SecondsToNs(config_.pose_timeout_s)),
       pose_slack_ns_(SecondsToNs(config_.pose_slack_s)),
       scene_(std::move(scene)),
-      sink_(std::move(sink)),
+      port_(std::move(port)),
       ownership_(pose_timeout_ns_),
       snapshots_(scene_ ? static_cast<std::size_t>(scene_->Vertices_m().cols()) : 0, kRecentEvents) {
   if (!scene_) throw std::invalid_argument("session needs a scene");
+  if (!port_) throw std::invalid_argument("session needs a port");
   if (!(config_.tick_period_s > 0.0 && config_.tick_period_s <= 0.1)) {
     throw std::invalid_argument("tick period must be in (0, 0.1] s");
   }
@@ -143,7 +144,7 @@ void Session::PublishForceModel(const TickInput& in) {
   m.stiffness_n_per_m = model.stiffness_N_per_m;
   m.damping_ns_per_m = model.damping_Ns_per_m;
   m.t_server_ns = runtime::SteadyNowNs();
-  if (sink_ && sink_(m)) {
+  if (port_->WriteForceModel(m)) {
     counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
   } else {
     counters_.force_model_write_failures.fetch_add(1, std::memory_order_relaxed);

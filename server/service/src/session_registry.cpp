@@ -1,5 +1,7 @@
 #include "hapsim/service/session_registry.h"
 
+#include <stdexcept>
+
 #include <spdlog/spdlog.h>
 
 #include "hapsim/runtime/clock.h"
@@ -17,8 +19,8 @@ bool IsValidSessionId(std::string_view id) {
   return true;
 }
 
-SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, ForceModelSink sink)
-    : defaults_(defaults), pool_(pool), sink_(std::move(sink)) {
+SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport)
+    : defaults_(defaults), pool_(pool), transport_(transport) {
   table_.store(std::make_shared<const SessionTable>());
 }
 
@@ -67,12 +69,17 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     config.pose_timeout_s = defaults_.pose_timeout_s;
     config.pose_slack_s = defaults_.pose_slack_s;
     auto built = BuildSceneAtLowPriority({config.scene, config.params});
-    session = std::make_shared<Session>(std::move(config), std::move(built), sink_);
+    auto port = transport_->Open(config.id);
+    session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
     if (configure) configure(*session);
-  } catch (const std::exception& e) {  // scenes throw invalid_argument on bad parameters
+  } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     std::lock_guard lock(mutex_);
     reserved_.erase(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
+  } catch (...) {  // e.g. the DDS endpoints could not be created: not the caller's fault
+    std::lock_guard lock(mutex_);
+    reserved_.erase(id);
+    throw;
   }
   // 3. Publish, then start ticking.
   {
@@ -81,6 +88,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     sessions_.emplace(id, session);
     PublishTableLocked();
   }
+  session->port().StartReceiving(session.get());
   pool_->Add(session.get(), runtime::SteadyNowNs());
   spdlog::info("session '{}' created: scene {}", id, session->config().scene);
   return session;
@@ -100,6 +108,7 @@ std::shared_ptr<Session> SessionRegistry::FindOrThrow(std::string_view id) const
 
 namespace {
 void Shut(TickPool& pool, Session& s, const grpc::Status& why) {
+  s.port().StopReceiving();
   pool.Remove(&s);  // waits for a running tick; no tick after this
   for (const auto& v : s.Viewers()) v->Close(why);
 }

@@ -26,6 +26,8 @@ class BridgeDds {
     return router_.models_for_unknown_devices() + router_.models_for_other_sessions();
   }
   const std::string& config_origin() const { return dds_.config_origin(); }
+  // Servers whose pose reader matches ours (0: no server serves the session).
+  std::uint32_t matched_servers() const { return dds_.MatchedServers(0); }
 
  private:
   void WriteNewestPose();

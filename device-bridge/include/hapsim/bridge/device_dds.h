@@ -1,13 +1,20 @@
 // The DDS side of one device (hapsim-bridge) or of many (hapsim-load): one
-// participant, one StylusPose writer, one LocalForceModel reader. An I/O
-// thread sleeps on a waitset; on every wake it runs the owner's hook, then
-// routes the waiting force models, stamped with their arrival time on this
-// process's clock, to the devices' inboxes (ModelRouter).
+// participant and, per device, a StylusPose writer and a LocalForceModel
+// reader in the DDS partition of the device's session
+// (runtime::SessionPartition), so a device receives only its own session's
+// models and its poses reach only that session. An I/O thread sleeps on a
+// waitset; on every wake it runs the owner's hook, then routes the waiting
+// force models of the triggered readers, stamped with their arrival time on
+// this process's clock, to the devices' inboxes (ModelRouter). A session is
+// fixed for the life of the endpoints (Cyclone cannot change a partition
+// after creation): to drive another session, make a new DeviceDds.
 #pragma once
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "hapsim/bridge/model_router.h"
 #include "hapsim/runtime/dds.h"
@@ -16,7 +23,9 @@ namespace hapsim::bridge {
 
 class DeviceDds {
  public:
-  // on_wake runs on the I/O thread at every wake (Wake(), a model, or 5 ms).
+  // One device per router slot (id router->first_device_id() + i, session
+  // router->session(i)). on_wake runs on the I/O thread at every wake
+  // (Wake(), a model, or 5 ms).
   DeviceDds(const runtime::DdsOptions& options, ModelRouter* router, std::function<void()> on_wake = {});
   ~DeviceDds();
   DeviceDds(const DeviceDds&) = delete;
@@ -26,23 +35,31 @@ class DeviceDds {
   void Stop();
   void Wake() { waitset_.Wake(); }  // thread-safe, cheap
 
-  // False when DDS refused the sample. hapsim-bridge calls it from the I/O
-  // thread (its on_wake hook), keeping DDS, which may allocate, out of the
-  // servo tick. hapsim-load calls it from its servo thread: a load generator
-  // measures the server, and skipping the hand-off to an I/O thread takes
-  // one thread wake-up (up to a scheduler slice on a busy machine) out of
-  // every round trip it reports.
-  bool WritePose(const hapsim_dds_StylusPose& pose) { return pose_writer_.Write(pose); }
+  // Writes on the writer of the pose's device (by pose.device_id). False
+  // when DDS refused the sample or the device is not ours. hapsim-bridge
+  // calls it from the I/O thread (its on_wake hook), keeping DDS, which may
+  // allocate, out of the servo tick. hapsim-load calls it from its servo
+  // thread: a load generator measures the server, and skipping the hand-off
+  // to an I/O thread takes one thread wake-up (up to a scheduler slice on a
+  // busy machine) out of every round trip it reports.
+  bool WritePose(const hapsim_dds_StylusPose& pose);
+  // Servers matched by device's pose writer (0: no server serves its session yet).
+  std::uint32_t MatchedServers(std::size_t device) const;
   const std::string& config_origin() const { return participant_.config_origin(); }
 
  private:
+  struct Endpoints {
+    Endpoints(const runtime::DdsParticipant& p, const std::string& partition);
+    runtime::DdsWriter<hapsim_dds_StylusPose> pose_writer;
+    runtime::DdsReader<hapsim_dds_LocalForceModel> model_reader;
+    runtime::DdsEntity read_condition;
+  };
   void Run();
 
   runtime::DdsParticipant participant_;
-  runtime::DdsWriter<hapsim_dds_StylusPose> pose_writer_;
-  runtime::DdsReader<hapsim_dds_LocalForceModel> model_reader_;
   runtime::DdsWaitSet waitset_;
   ModelRouter* router_;
+  std::vector<std::unique_ptr<Endpoints>> devices_;  // one per router slot
   std::function<void()> on_wake_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -1,8 +1,9 @@
-// Hands each received force model to the inbox of the device it addresses.
-// The force-model topic carries every session's models to every reader on
-// the domain, so a receiver keeps only those for its own devices: device i
-// has id first_device_id + i and drives sessions[i]. A model for another
-// device id, or for one of ours but another session, is counted and dropped.
+// Hands each received force model to the inbox of the device it addresses:
+// device i has id first_device_id + i and drives sessions[i]. Each device
+// reads models only in its session's DDS partition, so other sessions'
+// models never arrive; should one arrive anyway (another device id, or one
+// of ours but another session), it is counted and dropped — the bridge
+// reports that count, and it must stay 0.
 // One receive thread routes (the inboxes' single producer); the servo
 // thread takes from the inboxes (their single consumer).
 #pragma once
@@ -26,6 +27,8 @@ class ModelRouter {
   void Route(const hapsim_dds_LocalForceModel& model, std::int64_t received_ns);
 
   std::size_t devices() const { return n_; }
+  std::uint32_t first_device_id() const { return first_device_id_; }
+  std::string session(std::size_t device) const { return slots_[device].session; }
   runtime::LatestValue<ReceivedModel>& inbox(std::size_t device) { return slots_[device].inbox; }
   std::uint64_t models_routed(std::size_t device) const { return slots_[device].routed.load(std::memory_order_relaxed); }
   std::uint64_t models_for_unknown_devices() const { return unknown_device_.load(std::memory_order_relaxed); }

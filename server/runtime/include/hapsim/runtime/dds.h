@@ -12,6 +12,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <dds/dds.h>
 
@@ -70,29 +71,45 @@ class DdsEntity {
 
 dds_entity_t CreateTopicOrThrow(const DdsParticipant& p, const dds_topic_descriptor_t* desc,
                                 const char* name);
-// Best effort, keep-last 1 per instance, volatile.
-dds_entity_t CreateWriterOrThrow(const DdsParticipant& p, dds_entity_t topic);
-dds_entity_t CreateReaderOrThrow(const DdsParticipant& p, dds_entity_t topic);
+
+// The DDS partition of a session: "hapsim_s_" followed by the id with every
+// byte outside [A-Za-z0-9-] written as _XX (two upper-case hex digits).
+// One-to-one ('_' itself is escaped), and the result never holds '*' or '?',
+// which Cyclone would treat as a pattern (it has no escape, and a pattern
+// never matches a pattern) — so a session's partition matches only itself.
+std::string SessionPartition(std::string_view session_id);
+
+// A publisher or subscriber (parent) and the writer or reader on it. With an
+// empty partition the parent is the participant's default one.
+struct DdsEndpoint {
+  DdsEntity parent;    // publisher/subscriber created for the partition (or none)
+  DdsEntity endpoint;  // writer/reader
+};
+// Best effort, keep-last 1 per instance, volatile; in `partition` if not empty.
+DdsEndpoint CreateWriterOrThrow(const DdsParticipant& p, dds_entity_t topic, const std::string& partition = {});
+DdsEndpoint CreateReaderOrThrow(const DdsParticipant& p, dds_entity_t topic, const std::string& partition = {});
 
 template <class T>
 class DdsWriter {
  public:
-  DdsWriter(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name)
-      : topic_(CreateTopicOrThrow(p, desc, topic_name)), writer_(CreateWriterOrThrow(p, topic_.handle())) {}
-  // Returns false when DDS refused the sample (logged by the caller).
-  bool Write(const T& sample) { return dds_write(writer_.handle(), &sample) == DDS_RETCODE_OK; }
-  dds_entity_t handle() const { return writer_.handle(); }
+  DdsWriter(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name,
+            const std::string& partition = {})
+      : topic_(CreateTopicOrThrow(p, desc, topic_name)), writer_(CreateWriterOrThrow(p, topic_.handle(), partition)) {}
+  // Thread-safe. Returns false when DDS refused the sample (logged by the caller).
+  bool Write(const T& sample) { return dds_write(writer_.endpoint.handle(), &sample) == DDS_RETCODE_OK; }
+  dds_entity_t handle() const { return writer_.endpoint.handle(); }
 
  private:
   DdsEntity topic_;
-  DdsEntity writer_;
+  DdsEndpoint writer_;
 };
 
 template <class T>
 class DdsReader {
  public:
-  DdsReader(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name)
-      : topic_(CreateTopicOrThrow(p, desc, topic_name)), reader_(CreateReaderOrThrow(p, topic_.handle())) {}
+  DdsReader(const DdsParticipant& p, const dds_topic_descriptor_t* desc, const char* topic_name,
+            const std::string& partition = {})
+      : topic_(CreateTopicOrThrow(p, desc, topic_name)), reader_(CreateReaderOrThrow(p, topic_.handle(), partition)) {}
   // Takes up to out.size() valid samples into out (no allocation: T is
   // fixed-size); returns how many.
   std::size_t Take(std::span<T> out) {
@@ -101,7 +118,7 @@ class DdsReader {
     dds_sample_info_t infos[kMax];
     const std::size_t n = out.size() < kMax ? out.size() : kMax;
     for (std::size_t i = 0; i < n; ++i) buffers[i] = &out[i];
-    const dds_return_t got = dds_take(reader_.handle(), buffers, infos, n, static_cast<std::uint32_t>(n));
+    const dds_return_t got = dds_take(handle(), buffers, infos, n, static_cast<std::uint32_t>(n));
     if (got <= 0) return 0;
     // Compact away invalid samples (disposals carry no data).
     std::size_t valid = 0;
@@ -112,11 +129,11 @@ class DdsReader {
     }
     return valid;
   }
-  dds_entity_t handle() const { return reader_.handle(); }
+  dds_entity_t handle() const { return reader_.endpoint.handle(); }
 
  private:
   DdsEntity topic_;
-  DdsEntity reader_;
+  DdsEndpoint reader_;
 };
 
 // A waitset an I/O thread sleeps on: wakes when a reader has data, when
@@ -124,11 +141,20 @@ class DdsReader {
 class DdsWaitSet {
  public:
   explicit DdsWaitSet(const DdsParticipant& p);
+  // Up to 4 fixed readers, attached for the waitset's lifetime.
   void AttachReader(dds_entity_t reader);
+  // Any number of readers that come and go: the returned read condition is
+  // attached with `tag` (reported by WaitTriggered) and detached when the
+  // caller destroys it. Thread-safe against a concurrent Wait.
+  DdsEntity AttachReaderTagged(dds_entity_t reader, dds_attach_t tag);
   // Thread-safe; cheap. Used by real-time threads to say "new data to send".
   void Wake();
   // Returns after an event or timeout_ns. Resets the guard condition.
   void Wait(std::int64_t timeout_ns);
+  // As Wait, and fills `tags` with the tags of the triggered conditions
+  // (kGuardTag for the guard condition); returns how many (at most tags.size()).
+  std::size_t WaitTriggered(std::int64_t timeout_ns, std::span<dds_attach_t> tags);
+  static constexpr dds_attach_t kGuardTag = 0;
 
  private:
   DdsEntity waitset_;

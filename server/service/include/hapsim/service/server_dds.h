@@ -1,53 +1,64 @@
-// The server's DDS adapter: one I/O thread that sleeps on a waitset and
-// routes incoming StylusPose samples (checked by FilterPose, then by the
-// session's device ownership) to their sessions' pose mailboxes, waking each
-// session in the tick pool at once — the device clocks its session. It finds
-// sessions through the registry's copy-on-write table, never a lock that a
-// control RPC holds. Force models are written by the tick workers themselves
-// through WriteForceModel() (dds_write is thread-safe), with no hand-off.
+// The server's DDS adapter. Every session has its own DDS partition
+// (runtime::SessionPartition(id)): a StylusPose reader and a LocalForceModel
+// writer created with the session and deleted with it, so each bridge
+// receives only its own session's models (no N² traffic) and a pose reaches
+// only the session whose partition it was published in.
+//
+// One I/O thread sleeps on a waitset to which each session's reader is
+// attached with the Session as its tag. On a wake it takes the triggered
+// readers' poses, checks them (FilterPose, the sample's session id against
+// the partition's, then the session's device ownership), puts the newest in
+// the session's pose mailbox and wakes the session in the tick pool at once —
+// the device clocks its session. It checks tags against the registry's
+// copy-on-write table, never a lock that a control RPC holds. Force models
+// are written by the tick workers through the session's port (dds_write is
+// thread-safe), with no hand-off.
 #pragma once
 #include <atomic>
 #include <cstdint>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "hapsim/runtime/dds.h"
 #include "hapsim/service/pose_filter.h"
+#include "hapsim/service/session_port.h"
 #include "hapsim/service/session_registry.h"
 #include "haptics.h"
 
 namespace hapsim::service {
 
 struct ServerDdsCounters {
-  std::atomic<std::uint64_t> poses_unknown_session{0};
-  std::atomic<std::uint64_t> poses_other_device{0};  // session owned by another device
-  std::atomic<std::uint64_t> poses_rejected{0};
+  std::atomic<std::uint64_t> poses_rejected{0};       // malformed (FilterPose)
+  std::atomic<std::uint64_t> poses_wrong_session{0};  // sample's session id differs from its partition's
+  std::atomic<std::uint64_t> poses_other_device{0};   // session owned by another device
   std::atomic<std::uint64_t> poses_accepted{0};
   std::atomic<std::uint64_t> force_models_written{0};
   std::atomic<std::uint64_t> write_failures{0};
 };
 
-class ServerDds {
+class ServerDds : public SessionTransport {
  public:
   ServerDds(const runtime::DdsOptions& options, PoseLimits limits);
-  ~ServerDds();
+  ~ServerDds() override;
 
   void Start(SessionRegistry* registry, TickPool* pool);
   void Stop();
   void Wake() { waitset_.Wake(); }  // thread-safe
-  // Thread-safe (tick workers); does not block on the network.
-  bool WriteForceModel(const hapsim_dds_LocalForceModel& model);
+
+  // SessionTransport: the session's reader and writer in its partition.
+  std::shared_ptr<SessionPort> Open(const std::string& session_id) override;
 
   const ServerDdsCounters& counters() const { return counters_; }
   const std::string& config_origin() const { return participant_.config_origin(); }
 
  private:
+  class Port;
   void Run();
-  void RoutePoses();
+  void RefreshIndex();
+  void RoutePoses(Session& session, Port& port);
 
   runtime::DdsParticipant participant_;
-  runtime::DdsReader<hapsim_dds_StylusPose> pose_reader_;
-  runtime::DdsWriter<hapsim_dds_LocalForceModel> model_writer_;
   runtime::DdsWaitSet waitset_;
   PoseLimits limits_;
   SessionRegistry* registry_ = nullptr;
@@ -56,6 +67,10 @@ class ServerDds {
   std::atomic<bool> stop_{false};
   std::thread thread_;
   std::int64_t last_warning_ns_ = 0;
+  // I/O thread only: the table the tags are checked against, and its
+  // sessions sorted by address.
+  std::shared_ptr<const SessionTable> table_;
+  std::vector<Session*> index_;
 };
 
 }  // namespace hapsim::service

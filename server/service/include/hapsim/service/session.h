@@ -25,6 +25,7 @@
 #include "hapsim/runtime/latest_value.h"
 #include "hapsim/service/device_ownership.h"
 #include "hapsim/service/scene_snapshot.h"
+#include "hapsim/service/session_port.h"
 #include "hapsim/service/snapshot_ring.h"
 #include "hapsim/service/tick_input.h"
 #include "hapsim/service/tick_pool.h"
@@ -64,6 +65,7 @@ struct SessionCounters {
   std::atomic<std::uint64_t> poses_received{0};
   std::atomic<std::uint64_t> poses_rejected{0};
   std::atomic<std::uint64_t> poses_from_other_devices{0};
+  std::atomic<std::uint64_t> poses_wrong_session{0};   // in this partition but naming another session
   std::atomic<std::uint64_t> force_models_sent{0};
   std::atomic<std::uint64_t> force_model_write_failures{0};
   std::atomic<std::uint64_t> snapshots_skipped{0};     // every ring buffer was still being read
@@ -75,15 +77,13 @@ struct SessionCounters {
   std::atomic<std::uint32_t> viewers{0};
 };
 
-// Where force models go: called on the worker thread right after the step;
-// must be thread-safe and must not block. Returns false if the write failed.
-using ForceModelSink = std::function<bool(const hapsim_dds_LocalForceModel&)>;
-
 class Session : public TickTask {
  public:
-  // Takes a scene already built (outside every lock; see SessionRegistry).
-  // Throws std::invalid_argument on a bad tick period or frame rate.
-  Session(SessionConfig config, std::unique_ptr<core::Scene> scene, ForceModelSink sink);
+  // Takes a scene already built (outside every lock; see SessionRegistry)
+  // and the port its force models go out through (written on the worker,
+  // right after the step). Throws std::invalid_argument on a bad tick
+  // period or frame rate.
+  Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port);
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -93,6 +93,7 @@ class Session : public TickTask {
   const SessionCounters& counters() const { return counters_; }
   bool paused() const { return paused_.load(); }
   std::int64_t period_ns() const { return period_ns_; }
+  SessionPort& port() const { return *port_; }
 
   // DDS thread only. Offers a pose: false (and counted) if another device
   // owns the session. On true, wake the session at PoseDueNs().
@@ -139,7 +140,7 @@ class Session : public TickTask {
   std::int64_t pose_timeout_ns_;
   std::int64_t pose_slack_ns_;
   std::unique_ptr<core::Scene> scene_;
-  ForceModelSink sink_;
+  std::shared_ptr<SessionPort> port_;
   std::function<void(const TickInput&)> tick_observer_;
   SessionCounters counters_;
 

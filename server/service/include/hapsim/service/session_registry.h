@@ -5,7 +5,8 @@
 // (Table(): one atomic load), never through the mutex that Create/Close take.
 // Create reserves the id under that mutex, builds the scene with no lock held
 // (on a low-priority thread, so a slow build yields the CPU to ticks), then
-// publishes a new table and hands the session to the tick pool.
+// publishes a new table, lets poses reach the session (its port) and hands
+// it to the tick pool. Close undoes these in reverse order.
 #pragma once
 #include <atomic>
 #include <cstddef>
@@ -40,8 +41,9 @@ using SessionTable = std::map<std::string, std::shared_ptr<Session>, std::less<>
 
 class SessionRegistry {
  public:
-  // pool runs the ticks; sink receives every session's force models.
-  SessionRegistry(SessionDefaults defaults, TickPool* pool, ForceModelSink sink);
+  // pool runs the ticks; transport opens each session's port (its DDS
+  // partition's endpoints).
+  SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport);
   ~SessionRegistry();
 
   // Builds a session and starts its ticks. Throws ServiceError:
@@ -65,7 +67,7 @@ class SessionRegistry {
 
   SessionDefaults defaults_;
   TickPool* pool_;
-  ForceModelSink sink_;
+  SessionTransport* transport_;
   std::mutex mutex_;  // guards sessions_, reserved_, next_generated_id_; never taken by a tick or the DDS thread
   SessionTable sessions_;
   std::set<std::string, std::less<>> reserved_;  // ids being built
