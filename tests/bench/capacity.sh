@@ -1,0 +1,252 @@
+#!/usr/bin/env bash
+# Capacity benchmark (issues 8 and 17; not in CI, run by hand on a quiet
+# machine). For every MODE x SCENE x N: a hapsim-server pinned to core 0
+# with N sessions created first (hapsim-ctl create), driven for RUN_S seconds
+# from core 1 by
+#   load     one hapsim-load process (N devices, one DDS participant), or
+#   bridges  N hapsim-bridge processes (one participant per device, the
+#            classroom topology; launches spread over ~1 s like hapsim-load's
+#            default script phases),
+# with the server's CPU time (/proc/PID/stat utime+stime), the host's UDP
+# counters (/proc/net/snmp) and `hapsim-ctl list` read before and after the
+# drive. With BASELINE_BIN the older server in that directory runs right
+# after the current one with the same load and the same clients. Cyclone's
+# ddsperf ping/pong at 1 kHz (pong on core 0, ping on core 1) runs first as
+# the transport baseline. Prints one markdown table (capacity_table.py) and
+# keeps every raw output under OUT_DIR.
+#
+#   tests/bench/capacity.sh [BIN_DIR] [OUT_DIR]
+#
+#   BIN_DIR  hapsim binaries (default: build/bin)
+#   OUT_DIR  results (default: build/capacity-<UTC time>); table in capacity.md,
+#            per-run figures in capacity.csv, raw outputs in runs/
+#
+# Environment (defaults in brackets):
+#   COUNTS [1 8 16 32 64]            sessions per run (at most 64)
+#   SCENES [tissue_block acupuncture]
+#   MODES [load bridges]
+#   RUN_S [20]                       seconds each client drives its device
+#   SCRIPT [insertion]               synthetic script of every device
+#   BASELINE_BIN []                  directory with an older hapsim-server
+#                                    (e.g. /work/baseline: one thread per session)
+#   BASELINE_CLIENT_BIN [BASELINE_BIN if it holds a hapsim-bridge, else BIN_DIR]
+#                                    clients run against the baseline server
+#                                    (hapsim-bridge, hapsim-load; a client
+#                                    missing there comes from BIN_DIR). Before
+#                                    the series, each mode's client gets a 1 s
+#                                    probe against the baseline server; if it
+#                                    receives no force model (a DDS protocol
+#                                    change, e.g. per-session partitions) that
+#                                    mode's baseline runs are skipped.
+#   DDSPERF_S [10]                   ddsperf ping duration (0: skip)
+#
+# Before and after each run the host's UDP traffic is sampled for 1 s with
+# nothing of ours running; a row whose background exceeds 1000 datagrams/s is
+# marked in the table (another program was using the network).
+#
+# Needs 2+ CPUs (taskset -c 0 / -c 1), ddsperf (cyclonedds-tools). Every
+# process it starts is killed on exit; all traffic stays on 127.0.0.1
+# (deploy/cyclonedds-loopback.xml, gRPC on 127.0.0.1, random test DDS
+# domains 210-232); each client runs under `timeout`.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+here=$(cd "$(dirname "$0")" && pwd)
+bin=$(cd "${1:-$root/build/bin}" && pwd)
+out=${2:-$root/build/capacity-$(date -u +%Y%m%dT%H%M%SZ)}
+COUNTS=${COUNTS:-1 8 16 32 64}
+SCENES=${SCENES:-tissue_block acupuncture}
+MODES=${MODES:-load bridges}
+RUN_S=${RUN_S:-20}
+SCRIPT=${SCRIPT:-insertion}
+BASELINE_BIN=${BASELINE_BIN:-}
+if [ -z "${BASELINE_CLIENT_BIN:-}" ]; then
+  BASELINE_CLIENT_BIN=$bin
+  [ -n "$BASELINE_BIN" ] && [ -x "$BASELINE_BIN/hapsim-bridge" ] && BASELINE_CLIENT_BIN=$BASELINE_BIN
+fi
+DDSPERF_S=${DDSPERF_S:-10}
+dds_uri=file://$root/deploy/cyclonedds-loopback.xml
+
+die() { echo "capacity.sh: $*" >&2; exit 2; }
+for n in $COUNTS; do [[ $n =~ ^[0-9]+$ && $n -ge 1 && $n -le 64 ]] || die "COUNTS: $n is not in 1..64"; done
+for m in $MODES; do [[ $m == load || $m == bridges ]] || die "MODES: unknown mode $m (load, bridges)"; done
+[[ $RUN_S =~ ^[0-9]+([.][0-9]+)?$ ]] || die "RUN_S must be a number of seconds"
+client_timeout=$((${RUN_S%.*} + 61))
+for b in hapsim-server hapsim-ctl hapsim-load hapsim-bridge; do [ -x "$bin/$b" ] || die "$bin/$b not found"; done
+[ -z "$BASELINE_BIN" ] || [ -x "$BASELINE_BIN/hapsim-server" ] || die "$BASELINE_BIN/hapsim-server not found"
+taskset -c 1 true 2>/dev/null || die "needs CPUs 0 and 1 (taskset -c 1 failed)"
+mkdir -p "$out/runs"
+out=$(cd "$out" && pwd)
+: >"$out/runs.txt"
+
+pids=()  # started in the background and not yet reaped; `timeout` leads its own process group
+forget() {  # forget PID: reaped, so never signal that id again
+  local keep=() p
+  for p in "${pids[@]}"; do [ "$p" = "$1" ] || keep+=("$p"); done
+  pids=("${keep[@]}")
+}
+cleanup() {
+  local p
+  for p in "${pids[@]}"; do kill -TERM -- "-$p" "$p" 2>/dev/null || true; done
+  sleep 0.3
+  for p in "${pids[@]}"; do kill -KILL -- "-$p" "$p" 2>/dev/null || true; done
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+new_domain() { echo $((210 + RANDOM % 23)); }
+udp_out() { awk '/^Udp:/ { if (++line == 2) print $5 }' /proc/net/snmp; }
+# background SUFFIX: the host's UDP datagrams sent in 1 s with nothing of ours running -> run.env
+background() {
+  local before
+  before=$(udp_out); sleep 1
+  echo "background_udp_per_s_$1=$(($(udp_out) - before))" >>run.env
+}
+# client DIR NAME: DIR/NAME if it exists, else this build's
+client() { if [ -x "$1/$2" ]; then echo "$1/$2"; else echo "$bin/$2"; fi; }
+snapshot() {  # snapshot PID SUFFIX: server CPU, UDP counters, wall clock
+  cat "/proc/$1/stat" >"stat_$2.txt"
+  grep '^Udp:' /proc/net/snmp >"snmp_$2.txt"
+  date +%s.%N >"wall_$2.txt"
+  cut -d' ' -f1-3 /proc/loadavg >"loadavg_$2.txt"
+}
+# stop_server PID: SIGTERM, at most 10 s, then SIGKILL; appends its exit code to run.env
+stop_server() {
+  kill -TERM "$1" 2>/dev/null || true
+  for _ in $(seq 1 100); do kill -0 "$1" 2>/dev/null || break; sleep 0.1; done
+  kill -KILL "$1" 2>/dev/null || true
+  local rc=0
+  wait "$1" 2>/dev/null || rc=$?
+  forget "$1"
+  echo "server_rc=$rc" >>run.env
+}
+
+# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N
+run_one() {
+  local mode=$1 label=$2 server_dir=$3 client_dir=$4 scene=$5 n=$6
+  local dir="$out/runs/$mode-$label-$scene-$n" domain server addr i rc client_rc=0 failure="" ctl bridges=()
+  rm -rf "$dir" && mkdir -p "$dir"
+  echo "$dir" >>"$out/runs.txt"
+  echo "$(date -u +%T) $mode / $label server / $scene / N=$n (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
+  cd "$dir"
+  domain=$(new_domain)
+  {
+    echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
+    echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
+    echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"
+  } >run.env
+  background before
+  taskset -c 0 "$server_dir/hapsim-server" --listen 127.0.0.1:0 --port-file port --max-sessions 64 \
+      --dds-domain "$domain" >server.out 2>server.log &
+  server=$!; pids+=("$server")
+  for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
+  if [ ! -s port ]; then
+    echo "failure=server did not start" >>run.env; stop_server "$server"; cd "$out"; return
+  fi
+  addr=127.0.0.1:$(cat port)
+  ctl=(taskset -c 1 timeout 30 "$bin/hapsim-ctl" --server "$addr")
+  for ((i = 0; i < n; i++)); do
+    if ! "${ctl[@]}" create --id "cap-$i" --scene "$scene" >>create.out 2>>create.err; then
+      failure="hapsim-ctl create cap-$i failed: $(tail -1 create.err)"; break
+    fi
+  done
+  if [ -n "$failure" ]; then
+    echo "failure=$failure" >>run.env; stop_server "$server"; cd "$out"; return
+  fi
+  sleep 0.5
+  "${ctl[@]}" list >list_before.txt || true
+  snapshot "$server" before
+  if [ "$mode" = load ]; then
+    taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" --server "$addr" \
+        --dds-domain "$domain" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
+        --json load.json --csv load.csv --server-stats >load.out 2>load.err &
+    pids+=("$!")
+    wait "$!" || client_rc=$?
+    forget "$!"
+  else
+    for ((i = 0; i < n; i++)); do
+      taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-bridge)" --session "cap-$i" \
+          --device-id $((1000 + i)) --script "$SCRIPT" --keep-running --seconds "$RUN_S" \
+          --dds-domain "$domain" --log-level warn >"bridge-$i.out" 2>"bridge-$i.err" &
+      bridges+=("$!"); pids+=("$!")
+      sleep "$(awk -v n="$n" 'BEGIN { printf "%.4f", 1.0 / n }')"
+    done
+    for i in "${!bridges[@]}"; do
+      rc=0; wait "${bridges[$i]}" || rc=$?
+      forget "${bridges[$i]}"
+      echo "$rc" >"bridge-$i.rc"
+      [ "$rc" -eq 0 ] || client_rc=$rc
+    done
+  fi
+  snapshot "$server" after
+  "${ctl[@]}" list >list_after.txt || true
+  echo "client_rc=$client_rc" >>run.env
+  stop_server "$server"
+  background after
+  cd "$out"
+}
+
+# The transport baseline: ddsperf ping/pong at 1 kHz, pong on core 0, ping on core 1.
+run_ddsperf() {
+  local dir="$out/runs/ddsperf" domain pong
+  mkdir -p "$dir"
+  echo "$(date -u +%T) ddsperf ping/pong 1 kHz for ${DDSPERF_S} s" >&2
+  cd "$dir"
+  domain=$(new_domain)
+  : >run.env
+  background before
+  grep '^Udp:' /proc/net/snmp >snmp_before.txt
+  CYCLONEDDS_URI=$dds_uri taskset -c 0 timeout -k 5 $((DDSPERF_S + 20)) \
+      ddsperf -i "$domain" -D $((DDSPERF_S + 2)) pong waitset >pong.out 2>&1 &
+  pong=$!; pids+=("$pong")
+  CYCLONEDDS_URI=$dds_uri taskset -c 1 timeout -k 5 $((DDSPERF_S + 20)) \
+      ddsperf -i "$domain" -D "$DDSPERF_S" ping 1kHz waitset >ping.out 2>&1 || echo "ping exited $?" >>ping.out
+  wait "$pong" || true
+  forget "$pong"
+  grep '^Udp:' /proc/net/snmp >snmp_after.txt
+  background after
+  cd "$out"
+}
+
+{
+  echo "date=$(date -u +%FT%TZ)"; echo "host=$(hostname)"; echo "cpus=$(nproc)"
+  echo "cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')"
+  echo "commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet HEAD 2>/dev/null || echo +modified)"
+  echo "counts=$COUNTS"; echo "scenes=$SCENES"; echo "modes=$MODES"; echo "run_s=$RUN_S"; echo "script=$SCRIPT"
+  echo "baseline=${BASELINE_BIN:-none}"; echo "rmem_default=$(cat /proc/sys/net/core/rmem_default)"
+  echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"
+} >"$out/meta.env"
+
+if [ "$DDSPERF_S" != 0 ]; then
+  if command -v ddsperf >/dev/null; then run_ddsperf; else echo "capacity.sh: ddsperf not found, no transport baseline" >&2; fi
+fi
+# Which modes' clients can drive the baseline server (1 s probe, tissue_block, N = 1).
+baseline_modes=""
+if [ -n "$BASELINE_BIN" ]; then
+  saved_run_s=$RUN_S saved_runs=$out/runs.txt
+  RUN_S=1
+  for mode in $MODES; do
+    probe="$out/runs/probe-$mode-baseline"
+    run_one "$mode" baseline "$BASELINE_BIN" "$BASELINE_CLIENT_BIN" tissue_block 1
+    rm -rf "$probe" && mv "$out/runs/$mode-baseline-tissue_block-1" "$probe"
+    if grep -qs 'models_received": [1-9]' "$probe/load.json" ||
+       grep -qs 'force models received [1-9]' "$probe/bridge-0.out"; then
+      baseline_modes+=" $mode"
+    else
+      echo "capacity.sh: the $mode clients ($(client "$BASELINE_CLIENT_BIN" "hapsim-$([ "$mode" = load ] && echo load || echo bridge)")) got no force model from the baseline server: its $mode runs are skipped (see BASELINE_CLIENT_BIN)" | tee -a "$out/notes.txt" >&2
+    fi
+  done
+  RUN_S=$saved_run_s
+  : >"$saved_runs"
+fi
+for mode in $MODES; do
+  for scene in $SCENES; do
+    for n in $COUNTS; do
+      run_one "$mode" current "$bin" "$bin" "$scene" "$n"
+      if [[ " $baseline_modes " == *" $mode "* ]]; then
+        run_one "$mode" baseline "$BASELINE_BIN" "$BASELINE_CLIENT_BIN" "$scene" "$n"
+      fi
+    done
+  done
+done
+python3 "$here/capacity_table.py" "$out" | tee "$out/capacity.md"
+echo "raw outputs: $out/runs, per-run figures: $out/capacity.csv" >&2

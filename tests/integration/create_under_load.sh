@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Creating the most expensive accepted sessions while a classroom runs
+# (issue 8: "creating a session of any accepted parameters while 32 others
+# run: no device's model age exceeds 20 ms"). hapsim-load creates and drives
+# 32 tissue_block sessions for 8 s; 2 s in (all 32 streaming), hapsim-ctl creates
+# (docs/scene-limits.md):
+#  - acupuncture at every limit, the slowest accepted build (~0.6 s) and step,
+#  - tissue_block at the step-cost limit (midpoint averaging, 69 x 69),
+#  - tissue_block at the largest grid (101 x 101, the largest tissue build),
+# then asks for shf_lmax=30, which must be refused with INVALID_ARGUMENT
+# naming the parameter. check_create_under_load.py checks the load JSON
+# (every device: model age max <= 20 ms, no watchdog warning/fade/disarm),
+# that each creation succeeded while the load was running, and the refusal.
+# Timing-sensitive: registered RUN_SERIAL. Bounded: every client runs under
+# `timeout`, the whole script takes ~10 s; nothing leaves 127.0.0.1.
+set -euo pipefail
+source "$(dirname "$0")/lib.sh" "$@"
+# `timeout` runs its command in its own process group: kill the group too.
+cleanup() { for p in "${pids[@]}"; do kill -KILL -- "-$p" "$p" 2>/dev/null || true; done; }
+start_server "" --max-sessions 64
+ctl=(timeout 20 "$bin/hapsim-ctl" --server "$addr")
+now() { date +%s.%N; }
+
+acupuncture_worst=(--param shf_lmax=16 --param shf_samples=3000 --param patch_grid_nodes=101
+  --param skin_rings=30 --param fat_rings=30 --param muscle_rings=30
+  --param skin_spacing_m=0.01 --param fat_spacing_m=0.01 --param muscle_spacing_m=0.01
+  --param patch_size_m=0.2 --param springback_eta_rate_per_step=0 --param net_tension_ratio=1e4)
+
+echo "load_start $(now)" >times.txt
+timeout 40 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" --create tissue_block --devices 32 \
+    --seconds 8 --json load.json --csv load.csv >load.out 2>load.err &
+load=$!; pids+=("$load")
+
+# Wait until the 32 devices stream (at most 10 s) and the load has run for 2 s.
+for _ in $(seq 1 100); do
+  "${ctl[@]}" list >streaming.txt 2>/dev/null || true
+  [ "$(grep -c '^load-.* device_streaming=1' streaming.txt || true)" -eq 32 ] && break
+  sleep 0.1
+done
+sleep "$(awk -v t0="$(head -1 times.txt | cut -d' ' -f2)" -v now="$(now)" \
+    'BEGIN { d = t0 + 2 - now; printf "%.3f", (d > 0.2 ? d : 0.2) }')"
+echo "streaming $(grep -c '^load-.* device_streaming=1' streaming.txt || true)" >>times.txt
+
+# create NAME CTL-ARGS...: NAME.out/.err/.rc, start and end times in times.txt
+create() {
+  local name=$1 code=0; shift
+  echo "${name}_start $(now)" >>times.txt
+  "${ctl[@]}" create "$@" >"$name.out" 2>"$name.err" || code=$?
+  echo "${name}_end $(now)" >>times.txt
+  echo "$code" >"$name.rc"
+}
+create acupuncture --id worst-acupuncture --scene acupuncture "${acupuncture_worst[@]}"
+create tissue_cost --id worst-tissue-cost --scene tissue_block --param integrator=3 --param grid_nodes=69
+create tissue_grid --id worst-tissue-grid --scene tissue_block --param grid_nodes=101
+create refused --id too-deep --scene acupuncture --param shf_lmax=30
+kill -0 "$load" 2>/dev/null && echo "load_running_after_creations 1" >>times.txt
+"${ctl[@]}" list >during.txt || true
+
+load_rc=0
+wait "$load" || load_rc=$?
+echo "load_end $(now)" >>times.txt
+echo "$load_rc" >load.rc
+"${ctl[@]}" list >after.txt || true
+stop_process server_rc "$server"
+pids=()
+cat load.out
+/usr/bin/python3 "$here/check_create_under_load.py" "$work" "$server_rc"
