@@ -8,12 +8,17 @@
 
 namespace hapsim::service {
 
+// Nice 10: a tenth of a busy tick thread's CPU share (weight 110 vs 1024),
+// so due ticks preempt the build, yet a build still finishes on a saturated
+// machine (at nice 19, weight 15, it starved for tens of seconds).
+constexpr int kBuildNice = 10;
+
 std::unique_ptr<core::Scene> BuildSceneAtLowPriority(const core::SceneSpec& spec) {
   std::unique_ptr<core::Scene> scene;
   std::exception_ptr error;
   std::thread builder([&] {
     // Per-thread nice on Linux; failure only costs priority, not correctness.
-    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+    (void)setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBuildNice);
     try {
       scene = core::MakeScene(spec);
     } catch (...) {

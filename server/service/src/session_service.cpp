@@ -73,9 +73,10 @@ Status SessionServiceImpl::ListScenes(grpc::ServerContext*, const hapsim::v1::Li
   return Status::OK;
 }
 
-Status SessionServiceImpl::CreateSession(grpc::ServerContext*, const hapsim::v1::CreateSessionRequest* req,
+Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hapsim::v1::CreateSessionRequest* req,
                                          hapsim::v1::SessionInfo* out) {
-  return Guarded("CreateSession", [&] {
+  std::shared_ptr<Session> created;
+  const Status status = Guarded("CreateSession", [&] {
     if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
     std::map<std::string, double> params;
     for (const auto& [key, value] : req->params()) {
@@ -84,9 +85,21 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext*, const hapsim::v1:
       }
       params.emplace(key, value);
     }
-    auto s = registry_->Create(req->session_id(), req->scene(), req->owner(), std::move(params));
-    DescribeSession(*s, out);
+    created = registry_->Create(req->session_id(), req->scene(), req->owner(), std::move(params));
   });
+  if (!status.ok()) return status;
+  // The build yields the CPU to ticks, so on a saturated server it can
+  // outlast the client's deadline: a session nobody is told about must not
+  // linger and count against --max-sessions.
+  if (context && context->IsCancelled()) {
+    try {
+      registry_->Close(created->id());
+    } catch (const ServiceError&) {  // closed meanwhile by someone else
+    }
+    return {StatusCode::CANCELLED, "the client gave up before session '" + created->id() + "' was built; it was closed again"};
+  }
+  DescribeSession(*created, out);
+  return Status::OK;
 }
 
 Status SessionServiceImpl::ListSessions(grpc::ServerContext*, const hapsim::v1::ListSessionsRequest*,

@@ -1,5 +1,5 @@
-// Builds a scene off the real-time path: on a short-lived thread at the
-// lowest CPU priority (nice 19), so that while a large scene is built, the
+// Builds a scene off the real-time path: on a short-lived thread at low CPU
+// priority (nice 10), so that while a large scene is built, the
 // tick workers on the same core still run when they are due (the kernel
 // preempts the builder for them). The caller waits for the result.
 #pragma once
