@@ -14,7 +14,7 @@ DeviceDds::DeviceDds(const runtime::DdsOptions& options, ModelRouter* router, st
   for (std::size_t i = 0; i < router_->devices(); ++i) {
     auto e = std::make_unique<Endpoints>(participant_, runtime::SessionPartition(router_->session(i)));
     // Tag i + 1: 0 is the waitset's guard condition.
-    e->read_condition = waitset_.AttachReaderTagged(e->model_reader.handle(), static_cast<dds_attach_t>(i + 1));
+    e->read_condition = waitset_.AttachReader(e->model_reader.handle(), static_cast<dds_attach_t>(i + 1));
     devices_.push_back(std::move(e));
   }
 }
@@ -48,7 +48,7 @@ std::uint32_t DeviceDds::MatchedServers(std::size_t device) const {
 void DeviceDds::Run() {
   std::array<dds_attach_t, 64> tags;
   while (!stop_.load()) {
-    const std::size_t n = waitset_.WaitTriggered(5'000'000, tags);
+    const std::size_t n = waitset_.Wait(5'000'000, tags);
     if (on_wake_) on_wake_();
     for (std::size_t i = 0; i < n; ++i) {
       if (tags[i] == runtime::DdsWaitSet::kGuardTag) continue;

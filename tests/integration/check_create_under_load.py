@@ -6,7 +6,7 @@ parameter."""
 import json
 import sys
 
-from checks import check, finish
+from checks import check, ctl_sessions, exit_code, finish, read_text
 
 work, server_rc = sys.argv[1], int(sys.argv[2])
 WARN_AGE_MS = 20.0  # hapsim-load's --watchdog-warn-ms default (issue 8's bound)
@@ -16,21 +16,11 @@ GRPC_INVALID_ARGUMENT = 3
 
 
 def text(name):
-    return open(f"{work}/{name}").read()
-
-
-def exit_code(name):
-    return int(text(f"{name}.rc"))
+    return read_text(work, name)
 
 
 def sessions(listing):
-    """hapsim-ctl list -> {session id: {field: value}}"""
-    table = {}
-    for line in text(listing).splitlines():
-        fields = line.split()
-        if fields:
-            table[fields[0]] = dict(f.split("=", 1) for f in fields[1:] if "=" in f)
-    return table
+    return ctl_sessions(work, listing)
 
 
 times = {}
@@ -40,8 +30,8 @@ for line in text("times.txt").splitlines():
 
 # The load ran, all its devices streamed before the creations and it was
 # still running after them.
-check(exit_code("load") == 0, "hapsim-load exits 0" + ("" if exit_code("load") == 0 else
-                                                       f" (got {exit_code('load')}: {text('load.err')[-300:]})"))
+check(exit_code(work, "load") == 0, "hapsim-load exits 0" + ("" if exit_code(work, "load") == 0 else
+                                                       f" (got {exit_code(work, 'load')}: {text('load.err')[-300:]})"))
 streaming = int(times.get("streaming", 0))
 check(streaming == DEVICES, f"all {DEVICES} devices streamed before the creations ({streaming})")
 check(times.get("load_running_after_creations") == 1, "hapsim-load was still running after the creations")
@@ -50,9 +40,9 @@ check(times.get("load_running_after_creations") == 1, "hapsim-load was still run
 for name, session in CREATED.items():
     took = times[f"{name}_end"] - times[f"{name}_start"]
     printed = text(f"{name}.out").split()
-    ok = exit_code(name) == 0 and printed[:1] == [session]
+    ok = exit_code(work, name) == 0 and printed[:1] == [session]
     check(ok, f"create {session} succeeds under load in {took:.2f} s"
-          + ("" if ok else f" (rc {exit_code(name)}: {(text(f'{name}.out') + text(f'{name}.err')).strip()[-200:]!r})"))
+          + ("" if ok else f" (rc {exit_code(work, name)}: {(text(f'{name}.out') + text(f'{name}.err')).strip()[-200:]!r})"))
 during = sessions("during.txt")
 for session in CREATED.values():
     check(session in during, f"{session} is listed after its creation")
@@ -61,7 +51,7 @@ for session in CREATED.values():
 
 # The refusal.
 refused = text("refused.err")
-check(exit_code("refused") != 0 and f"({GRPC_INVALID_ARGUMENT})" in refused and "shf_lmax" in refused,
+check(exit_code(work, "refused") != 0 and f"({GRPC_INVALID_ARGUMENT})" in refused and "shf_lmax" in refused,
       f"shf_lmax=30 is refused with INVALID_ARGUMENT naming the parameter: {refused.strip()!r}")
 check("too-deep" not in during, "the refused session does not exist")
 

@@ -5,31 +5,21 @@ import json
 import re
 import sys
 
-from checks import check, finish
+from checks import check, ctl_sessions, exit_code, finish, read_text
 
 work, server_rc = sys.argv[1], int(sys.argv[2])
 
 
 def text(name):
-    return open(f"{work}/{name}").read()
-
-
-def exit_code(name):
-    return int(text(f"{name}.rc"))
+    return read_text(work, name)
 
 
 def sessions(listing):
-    """hapsim-ctl list -> {session id: {field: value}}"""
-    table = {}
-    for line in text(listing).splitlines():
-        fields = line.split()
-        if fields:
-            table[fields[0]] = dict(f.split("=", 1) for f in fields[1:] if "=" in f)
-    return table
+    return ctl_sessions(work, listing)
 
 
 # 1. Sixteen devices for 4 s.
-check(exit_code("load") == 0, f"hapsim-load exits 0 (got {exit_code('load')}: {text('load.err')[-300:]})")
+check(exit_code(work, "load") == 0, f"hapsim-load exits 0 (got {exit_code(work, 'load')}: {text('load.err')[-300:]})")
 report = json.load(open(f"{work}/load.json"))
 devices = report["per_device"]
 check(len(devices) == 16, f"16 devices reported (got {len(devices)})")
@@ -58,12 +48,12 @@ ticks = sum(s.get("ticks", 0) for s in server.values())
 print(f"     server: {late} late ticks of {ticks}")
 
 # 2. Creation failures.
-check(exit_code("dup") != 0 and "ALREADY_EXISTS" in text("dup.err") and "load-0" in text("dup.err"),
+check(exit_code(work, "dup") != 0 and "ALREADY_EXISTS" in text("dup.err") and "load-0" in text("dup.err"),
       f"creating an existing session fails with the server's error: {text('dup.err').strip()!r}")
-check(exit_code("scene") != 0 and "no_such_scene" in text("scene.err") and "cannot create" in text("scene.err"),
+check(exit_code(work, "scene") != 0 and "no_such_scene" in text("scene.err") and "cannot create" in text("scene.err"),
       f"an unknown scene fails with the server's error: {text('scene.err').strip()!r}")
 after_failures = sessions("after_failures.txt")
-check(exit_code("partial") != 0 and "load-3" in text("partial.err") and "fresh-a" not in after_failures,
+check(exit_code(work, "partial") != 0 and "load-3" in text("partial.err") and "fresh-a" not in after_failures,
       "a failed creation closes the sessions created before it (fresh-a is gone)")
 check(not any(k.startswith("nosuch-") for k in after_failures), "no session is left from the unknown scene")
 
@@ -76,13 +66,13 @@ for i in range(4):
           f"(device_streaming={s.get('device_streaming')}, owning_device_id={s.get('owning_device_id')})")
     check(gone.get("device_streaming") == "0",
           f"killed-{i} reports device_streaming=0 after the pose timeout (got {gone.get('device_streaming')})")
-check(exit_code("health") == 0 and text("health.out").strip() == "SERVING", "the server stays SERVING after the kill")
+check(exit_code(work, "health") == 0 and text("health.out").strip() == "SERVING", "the server stays SERVING after the kill")
 ticks_before = int(alive.get("load-0", {}).get("ticks", 0))
 ticks_after = int(after_kill.get("load-0", {}).get("ticks", 0))
 check(ticks_after > ticks_before, f"other sessions keep ticking after the kill (load-0: {ticks_before} -> {ticks_after})")
 
 # 4. Closed at exit.
-check(exit_code("closed") == 0 and not any(k.startswith("closed-") for k in sessions("after_close.txt")),
+check(exit_code(work, "closed") == 0 and not any(k.startswith("closed-") for k in sessions("after_close.txt")),
       "without --keep-sessions the generator's sessions are closed at exit")
 check(server_rc == 0, f"the server exits 0 on SIGTERM (got {server_rc})")
 finish()

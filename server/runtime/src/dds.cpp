@@ -149,16 +149,7 @@ DdsWaitSet::DdsWaitSet(const DdsParticipant& p) {
   if (rc < 0) throw DdsError("cannot attach guard condition", rc);
 }
 
-void DdsWaitSet::AttachReader(dds_entity_t reader) {
-  if (n_read_conditions_ == 4) throw std::logic_error("DdsWaitSet: at most 4 readers");
-  const dds_entity_t rc = dds_create_readcondition(reader, DDS_ANY_STATE);
-  if (rc < 0) throw DdsError("cannot create read condition", rc);
-  read_conditions_[n_read_conditions_++] = DdsEntity(rc);
-  const dds_return_t r = dds_waitset_attach(waitset_.handle(), rc, reader);
-  if (r < 0) throw DdsError("cannot attach read condition", r);
-}
-
-DdsEntity DdsWaitSet::AttachReaderTagged(dds_entity_t reader, dds_attach_t tag) {
+DdsEntity DdsWaitSet::AttachReader(dds_entity_t reader, dds_attach_t tag) {
   const dds_entity_t rc = dds_create_readcondition(reader, DDS_ANY_STATE);
   if (rc < 0) throw DdsError("cannot create read condition", rc);
   DdsEntity condition(rc);
@@ -167,7 +158,7 @@ DdsEntity DdsWaitSet::AttachReaderTagged(dds_entity_t reader, dds_attach_t tag) 
   return condition;
 }
 
-std::size_t DdsWaitSet::WaitTriggered(std::int64_t timeout_ns, std::span<dds_attach_t> tags) {
+std::size_t DdsWaitSet::Wait(std::int64_t timeout_ns, std::span<dds_attach_t> tags) {
   const dds_return_t n = dds_waitset_wait(waitset_.handle(), tags.data(), tags.size(), timeout_ns);
   bool was = false;
   dds_take_guardcondition(guard_.handle(), &was);
@@ -176,12 +167,5 @@ std::size_t DdsWaitSet::WaitTriggered(std::int64_t timeout_ns, std::span<dds_att
 }
 
 void DdsWaitSet::Wake() { dds_set_guardcondition(guard_.handle(), true); }
-
-void DdsWaitSet::Wait(std::int64_t timeout_ns) {
-  dds_attach_t triggered[8];
-  dds_waitset_wait(waitset_.handle(), triggered, 8, timeout_ns);
-  bool was = false;
-  dds_take_guardcondition(guard_.handle(), &was);
-}
 
 }  // namespace hapsim::runtime

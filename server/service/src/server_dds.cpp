@@ -34,7 +34,7 @@ class ServerDds::Port : public SessionPort {
     return false;
   }
   void StartReceiving(Session* session) override {
-    condition_ = owner_->waitset_.AttachReaderTagged(pose_reader_.handle(), reinterpret_cast<dds_attach_t>(session));
+    condition_ = owner_->waitset_.AttachReader(pose_reader_.handle(), reinterpret_cast<dds_attach_t>(session));
   }
   void StopReceiving() override { condition_.Reset(); }  // deleting the condition detaches it
 
@@ -84,7 +84,7 @@ void ServerDds::RefreshIndex() {
 void ServerDds::Run() {
   std::array<dds_attach_t, 64> tags;
   while (!stop_.load()) {
-    const std::size_t n = waitset_.WaitTriggered(kWaitTimeoutNs, tags);
+    const std::size_t n = waitset_.Wait(kWaitTimeoutNs, tags);
     RefreshIndex();  // holds the table: the sessions it names stay alive this pass
     for (std::size_t i = 0; i < n; ++i) {
       if (tags[i] == runtime::DdsWaitSet::kGuardTag) continue;

@@ -31,8 +31,7 @@ void SessionRegistry::PublishTableLocked() {
 }
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
-                                                 std::map<std::string, double> params,
-                                                 const std::function<void(Session&)>& configure) {
+                                                 std::map<std::string, double> params) {
   // 1. Reserve the id (brief lock).
   {
     std::lock_guard lock(mutex_);
@@ -71,7 +70,6 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     auto built = BuildSceneAtLowPriority({config.scene, config.params});
     auto port = transport_->Open(config.id);
     session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
-    if (configure) configure(*session);
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     std::lock_guard lock(mutex_);
     reserved_.erase(id);

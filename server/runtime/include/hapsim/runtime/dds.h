@@ -141,26 +141,21 @@ class DdsReader {
 class DdsWaitSet {
  public:
   explicit DdsWaitSet(const DdsParticipant& p);
-  // Up to 4 fixed readers, attached for the waitset's lifetime.
-  void AttachReader(dds_entity_t reader);
-  // Any number of readers that come and go: the returned read condition is
-  // attached with `tag` (reported by WaitTriggered) and detached when the
-  // caller destroys it. Thread-safe against a concurrent Wait.
-  DdsEntity AttachReaderTagged(dds_entity_t reader, dds_attach_t tag);
+  // Attaches a reader: the returned read condition is attached with `tag`
+  // (reported by Wait; not kGuardTag) and detached when the caller
+  // destroys it. Thread-safe against a concurrent wait.
+  DdsEntity AttachReader(dds_entity_t reader, dds_attach_t tag);
   // Thread-safe; cheap. Used by real-time threads to say "new data to send".
   void Wake();
-  // Returns after an event or timeout_ns. Resets the guard condition.
-  void Wait(std::int64_t timeout_ns);
-  // As Wait, and fills `tags` with the tags of the triggered conditions
-  // (kGuardTag for the guard condition); returns how many (at most tags.size()).
-  std::size_t WaitTriggered(std::int64_t timeout_ns, std::span<dds_attach_t> tags);
+  // Returns after an event or timeout_ns and resets the guard condition.
+  // Fills `tags` with the tags of the triggered conditions (kGuardTag for
+  // the guard condition); returns how many (at most tags.size()).
+  std::size_t Wait(std::int64_t timeout_ns, std::span<dds_attach_t> tags);
   static constexpr dds_attach_t kGuardTag = 0;
 
  private:
   DdsEntity waitset_;
   DdsEntity guard_;
-  DdsEntity read_conditions_[4];
-  int n_read_conditions_ = 0;
 };
 
 }  // namespace hapsim::runtime

@@ -49,10 +49,8 @@ class SessionRegistry {
   // Builds a session and starts its ticks. Throws ServiceError:
   // kInvalidArgument (bad id, unknown scene, bad parameter), kAlreadyExists
   // (also while a session of that id is being built), kResourceExhausted.
-  // configure, if given, is applied before the first tick (tests: observers).
   std::shared_ptr<Session> Create(std::string id, std::string scene, std::string owner,
-                                  std::map<std::string, double> params,
-                                  const std::function<void(Session&)>& configure = {});
+                                  std::map<std::string, double> params);
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
   // Stops the session's ticks and ends its viewer streams. Throws kNotFound.
