@@ -20,14 +20,12 @@ bool IsValidSessionId(std::string_view id) {
 }
 
 SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport)
-    : defaults_(defaults), pool_(pool), transport_(transport) {
-  table_.store(std::make_shared<const SessionTable>());
-}
+    : defaults_(defaults), pool_(pool), transport_(transport) {}
 
 SessionRegistry::~SessionRegistry() { CloseAll(); }
 
 void SessionRegistry::PublishTableLocked() {
-  table_.store(std::make_shared<const SessionTable>(sessions_), std::memory_order_release);
+  table_.Store(std::make_shared<const SessionTable>(sessions_));
 }
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,

@@ -2,13 +2,12 @@
 //
 // The real-time paths never wait for a control RPC: the DDS thread and the
 // frame pump read the sessions through an immutable, copy-on-write table
-// (Table(): one atomic load), never through the mutex that Create/Close take.
+// (Table(): one pointer copy), never through the mutex that Create/Close take.
 // Create reserves the id under that mutex, builds the scene with no lock held
 // (on a low-priority thread, so a slow build yields the CPU to ticks), then
 // publishes a new table, lets poses reach the session (its port) and hands
 // it to the tick pool. Close undoes these in reverse order.
 #pragma once
-#include <atomic>
 #include <cstddef>
 #include <map>
 #include <memory>
@@ -18,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hapsim/runtime/shared_snapshot.h"
 #include "hapsim/service/errors.h"
 #include "hapsim/service/session.h"
 #include "hapsim/service/tick_pool.h"
@@ -58,7 +58,7 @@ class SessionRegistry {
   void CloseAll();
   std::vector<std::shared_ptr<Session>> List() const;  // sorted by id
   // Lock-free read for the real-time paths.
-  std::shared_ptr<const SessionTable> Table() const { return table_.load(std::memory_order_acquire); }
+  std::shared_ptr<const SessionTable> Table() const { return table_.Load(); }
 
  private:
   void PublishTableLocked();
@@ -70,7 +70,7 @@ class SessionRegistry {
   SessionTable sessions_;
   std::set<std::string, std::less<>> reserved_;  // ids being built
   std::uint64_t next_generated_id_ = 1;
-  std::atomic<std::shared_ptr<const SessionTable>> table_;
+  runtime::SharedSnapshot<SessionTable> table_{std::make_shared<const SessionTable>()};
 };
 
 }  // namespace hapsim::service
