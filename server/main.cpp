@@ -79,8 +79,7 @@ int main(int argc, char** argv) {
   flags.Add("quantum-mm", &quantum_mm, "position quantisation of viewer deltas [mm]");
   flags.Add("pose-timeout-ms", &pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
   flags.Add("pose-slack-ms", &pose_slack_ms,
-            "a streaming device clocks its session's ticks; if its next pose is later than one tick period\n"
-            "plus this, the session ticks on its own deadline with the previous pose [ms]");
+            "a device's pose clocks its session; a pose later than one period plus this: tick without it [ms]");
   flags.Add("workers", &options.workers, "tick worker threads (0: one per CPU this process may run on)");
   flags.Add("max-message-bytes", &options.max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &dds_domain, "DDS domain id");
