@@ -5,17 +5,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "hapsim/runtime/session_id.h"
+
 namespace hapsim::bridge {
-
-namespace {
-
-bool IsValidSessionId(const std::string& id) {
-  return !id.empty() && id.size() <= 63 && std::all_of(id.begin(), id.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-  });
-}
-
-}  // namespace
 
 std::vector<std::string> SplitCommaList(const std::string& text) {
   std::vector<std::string> items;
@@ -36,7 +28,7 @@ std::vector<LoadDevicePlan> PlanDevices(const LoadPlanOptions& o) {
   if (!(o.phase_spread_s >= 0.0)) throw std::invalid_argument("--phase-spread-s must be >= 0");
   std::set<std::string> seen;
   for (const auto& s : sessions) {
-    if (!IsValidSessionId(s)) throw std::invalid_argument("session id '" + s + "' is not [A-Za-z0-9_-]{1,63}");
+    if (!runtime::IsValidSessionId(s)) throw std::invalid_argument("session id '" + s + "' is not [A-Za-z0-9_-]{1,63}");
     if (!seen.insert(s).second) throw std::invalid_argument("session '" + s + "' is listed twice (one device per session)");
   }
   const std::size_t n = sessions.size();

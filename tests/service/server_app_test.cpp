@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <thread>
 
 #include <unistd.h>
@@ -185,15 +186,20 @@ struct TestDevice {
   std::uint64_t models_own = 0, models_other = 0;
 };
 
+// Every device sends a pose and takes its models once a millisecond, for at
+// most max_ms or until done() (bounded: discovery usually takes < 100 ms).
+void StreamPoses(std::initializer_list<TestDevice*> devices, int max_ms, const std::function<bool()>& done = [] { return false; }) {
+  for (int i = 0; i < max_ms && !done(); ++i) {
+    for (TestDevice* d : devices) d->SendAndReceive();
+    std::this_thread::sleep_for(1ms);
+  }
+}
+
 TEST_F(ServerAppTest, EachDeviceReceivesOnlyItsOwnSessionsModels) {
   ASSERT_TRUE(Create("room-a").ok());
   ASSERT_TRUE(Create("room-b").ok());
   TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
-  for (int i = 0; i < 3000 && (a.models_own < 200 || b.models_own < 200); ++i) {
-    a.SendAndReceive();
-    b.SendAndReceive();
-    std::this_thread::sleep_for(1ms);
-  }
+  StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 200 && b.models_own >= 200; });
   EXPECT_GE(a.models_own, 200u);
   EXPECT_GE(b.models_own, 200u);
   EXPECT_EQ(a.models_other, 0u);
@@ -209,10 +215,7 @@ TEST_F(ServerAppTest, APoseNamingAnotherSessionInsideAPartitionMovesNeitherAndIs
   std::strcpy(intruder.pose.session, "room-b");  // published in room-a's partition
   intruder.pose.pos_m[2] = -0.01;                // would press 1 cm deep
   const auto& c = app_->dds().counters();
-  for (int i = 0; i < 3000 && c.poses_wrong_session.load() < 50; ++i) {
-    intruder.SendAndReceive();
-    std::this_thread::sleep_for(1ms);
-  }
+  StreamPoses({&intruder}, 3000, [&] { return c.poses_wrong_session.load() >= 50; });
   EXPECT_GE(c.poses_wrong_session.load(), 50u);
   EXPECT_GE(Info("room-a").poses_wrong_session(), 50u);
   for (const char* id : {"room-a", "room-b"}) {
@@ -228,27 +231,16 @@ TEST_F(ServerAppTest, ClosingASessionStopsItsModelsWhileTheOtherSessionContinues
   ASSERT_TRUE(Create("room-a").ok());
   ASSERT_TRUE(Create("room-b").ok());
   TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
-  for (int i = 0; i < 3000 && (a.models_own < 100 || b.models_own < 100); ++i) {
-    a.SendAndReceive();
-    b.SendAndReceive();
-    std::this_thread::sleep_for(1ms);
-  }
+  StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 100 && b.models_own >= 100; });
   ASSERT_GE(a.models_own, 100u);
   grpc::ClientContext ctx;
   hapsim::v1::SessionRef ref;
   ref.set_session_id("room-a");
   hapsim::v1::CloseSessionResponse closed;
   ASSERT_TRUE(sessions_->CloseSession(&ctx, ref, &closed).ok());
-  for (int i = 0; i < 20; ++i) {  // drain what was already in flight
-    a.SendAndReceive();
-    std::this_thread::sleep_for(1ms);
-  }
+  StreamPoses({&a}, 20);  // drain what was already in flight
   const auto a_before = a.models_own, b_before = b.models_own;
-  for (int i = 0; i < 200; ++i) {
-    a.SendAndReceive();
-    b.SendAndReceive();
-    std::this_thread::sleep_for(1ms);
-  }
+  StreamPoses({&a, &b}, 200);
   EXPECT_EQ(a.models_own, a_before);  // a bridge still publishing gets nothing back
   EXPECT_GT(b.models_own, b_before + 100);
 }

@@ -82,23 +82,6 @@ dds_qos_t* HapsimQos() {
 }
 }  // namespace
 
-std::string SessionPartition(std::string_view session_id) {
-  static constexpr char kHex[] = "0123456789ABCDEF";
-  std::string out = "hapsim_s_";
-  for (const char ch : session_id) {
-    const auto c = static_cast<unsigned char>(ch);
-    const bool plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-';
-    if (plain) {
-      out += static_cast<char>(c);
-    } else {
-      out += '_';
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    }
-  }
-  return out;
-}
-
 namespace {
 
 // A publisher (for_writer) or subscriber in one partition, or none.

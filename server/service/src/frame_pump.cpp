@@ -30,7 +30,8 @@ void FramePump::Stop() {
 
 void FramePump::PumpOnce() {
   const std::int64_t now = runtime::SteadyNowNs();
-  for (const auto& session : registry_->List()) {
+  const auto table = registry_->Table();  // never the registry mutex a slow Create may hold
+  for (const auto& [id, session] : *table) {
     std::shared_ptr<const SceneSnapshot> fresh;
     if (session->TakeSnapshot(&fresh)) session->SetLatestSnapshot(fresh);
     const auto latest = session->LatestSnapshot();

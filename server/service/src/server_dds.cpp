@@ -21,9 +21,9 @@ class ServerDds::Port : public SessionPort {
  public:
   Port(ServerDds* owner, const std::string& session_id)
       : owner_(owner),
-        partition_(runtime::SessionPartition(session_id)),
-        pose_reader_(owner->participant_, &hapsim_dds_StylusPose_desc, kPoseTopic, partition_),
-        model_writer_(owner->participant_, &hapsim_dds_LocalForceModel_desc, kModelTopic, partition_) {}
+        pose_reader_(owner->participant_, &hapsim_dds_StylusPose_desc, kPoseTopic, runtime::SessionPartition(session_id)),
+        model_writer_(owner->participant_, &hapsim_dds_LocalForceModel_desc, kModelTopic,
+                      runtime::SessionPartition(session_id)) {}
 
   bool WriteForceModel(const hapsim_dds_LocalForceModel& model) override {
     if (model_writer_.Write(model)) {
@@ -42,7 +42,6 @@ class ServerDds::Port : public SessionPort {
 
  private:
   ServerDds* owner_;
-  std::string partition_;
   runtime::DdsReader<hapsim_dds_StylusPose> pose_reader_;
   runtime::DdsWriter<hapsim_dds_LocalForceModel> model_writer_;
   runtime::DdsEntity condition_;
@@ -98,6 +97,12 @@ void ServerDds::Run() {
   }
 }
 
+bool ServerDds::WarningDue(std::int64_t now_ns) {
+  if (now_ns - last_warning_ns_ <= kWarningIntervalNs) return false;
+  last_warning_ns_ = now_ns;
+  return true;
+}
+
 void ServerDds::RoutePoses(Session& session, Port& port) {
   std::array<hapsim_dds_StylusPose, 64> batch;
   for (;;) {
@@ -112,8 +117,7 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
       if (!tool) {
         counters_.poses_rejected.fetch_add(1);
         session.counters().poses_rejected.fetch_add(1);
-        if (now - last_warning_ns_ > kWarningIntervalNs) {
-          last_warning_ns_ = now;
+        if (WarningDue(now)) {
           spdlog::warn("dropped a pose from device {} (session '{}'): {}", sample.device_id, session.id(),
                        ToString(why));
         }
@@ -122,8 +126,7 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
       if (SessionIdOf(sample.session) != session.id()) {
         counters_.poses_wrong_session.fetch_add(1);
         session.counters().poses_wrong_session.fetch_add(1);
-        if (now - last_warning_ns_ > kWarningIntervalNs) {
-          last_warning_ns_ = now;
+        if (WarningDue(now)) {
           spdlog::warn("pose from device {} naming session '{}' arrived in the partition of session '{}': dropped",
                        sample.device_id, SessionIdOf(sample.session), session.id());
         }
@@ -131,8 +134,7 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
       }
       if (!session.OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now})) {
         counters_.poses_other_device.fetch_add(1);
-        if (now - last_warning_ns_ > kWarningIntervalNs) {
-          last_warning_ns_ = now;
+        if (WarningDue(now)) {
           spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id,
                        session.id(), session.counters().owning_device_id.load());
         }

@@ -144,11 +144,8 @@ void Session::PublishForceModel(const TickInput& in) {
   m.stiffness_n_per_m = model.stiffness_N_per_m;
   m.damping_ns_per_m = model.damping_Ns_per_m;
   m.t_server_ns = runtime::SteadyNowNs();
-  if (port_->WriteForceModel(m)) {
-    counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
-  } else {
-    counters_.force_model_write_failures.fetch_add(1, std::memory_order_relaxed);
-  }
+  // A refused write is counted by the port (ServerDds counters).
+  if (port_->WriteForceModel(m)) counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
 }
 
 void Session::PublishSnapshot(const TickInput& in) {

@@ -5,24 +5,21 @@
 #include <spdlog/spdlog.h>
 
 #include "hapsim/runtime/clock.h"
+#include "hapsim/runtime/session_id.h"
 #include "hapsim/service/scene_builder.h"
 #include "hapsim/service/viewer_link.h"
 
 namespace hapsim::service {
 
-bool IsValidSessionId(std::string_view id) {
-  if (id.empty() || id.size() > 63) return false;
-  for (const char c : id) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-    if (!ok) return false;
-  }
-  return true;
-}
-
 SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport)
     : defaults_(defaults), pool_(pool), transport_(transport) {}
 
 SessionRegistry::~SessionRegistry() { CloseAll(); }
+
+void SessionRegistry::ReleaseReservation(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  reserved_.erase(id);
+}
 
 void SessionRegistry::PublishTableLocked() {
   table_.Store(std::make_shared<const SessionTable>(sessions_));
@@ -38,7 +35,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
         id = "session-" + std::to_string(next_generated_id_++);
       } while (sessions_.count(id) || reserved_.count(id));
     }
-    if (!IsValidSessionId(id)) {
+    if (!runtime::IsValidSessionId(id)) {
       throw ServiceError(ErrorCode::kInvalidArgument,
                          "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
     }
@@ -69,12 +66,10 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     auto port = transport_->Open(config.id);
     session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
-    std::lock_guard lock(mutex_);
-    reserved_.erase(id);
+    ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
   } catch (...) {  // e.g. the DDS endpoints could not be created: not the caller's fault
-    std::lock_guard lock(mutex_);
-    reserved_.erase(id);
+    ReleaseReservation(id);
     throw;
   }
   // 3. Publish, then start ticking.

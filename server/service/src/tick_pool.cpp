@@ -112,7 +112,6 @@ void TickPool::WorkerLoop() {
     while (!heap_.empty() && IsStaleLocked(heap_.front())) {
       std::pop_heap(heap_.begin(), heap_.end(), later);
       heap_.pop_back();
-      ++stats_.stale_pops;
     }
     if (heap_.empty()) {
       work_cv_.wait(lock);

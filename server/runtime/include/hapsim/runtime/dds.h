@@ -16,6 +16,8 @@
 
 #include <dds/dds.h>
 
+#include "hapsim/runtime/session_id.h"  // SessionPartition: the partition an endpoint joins
+
 namespace hapsim::runtime {
 
 class DdsError : public std::runtime_error {
@@ -71,13 +73,6 @@ class DdsEntity {
 
 dds_entity_t CreateTopicOrThrow(const DdsParticipant& p, const dds_topic_descriptor_t* desc,
                                 const char* name);
-
-// The DDS partition of a session: "hapsim_s_" followed by the id with every
-// byte outside [A-Za-z0-9-] written as _XX (two upper-case hex digits).
-// One-to-one ('_' itself is escaped), and the result never holds '*' or '?',
-// which Cyclone would treat as a pattern (it has no escape, and a pattern
-// never matches a pattern) — so a session's partition matches only itself.
-std::string SessionPartition(std::string_view session_id);
 
 // A publisher or subscriber (parent) and the writer or reader on it. With an
 // empty partition the parent is the participant's default one.

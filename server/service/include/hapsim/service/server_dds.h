@@ -44,7 +44,6 @@ class ServerDds : public SessionTransport {
 
   void Start(SessionRegistry* registry, TickPool* pool);
   void Stop();
-  void Wake() { waitset_.Wake(); }  // thread-safe
 
   // SessionTransport: the session's reader and writer in its partition.
   std::shared_ptr<SessionPort> Open(const std::string& session_id) override;
@@ -57,6 +56,7 @@ class ServerDds : public SessionTransport {
   void Run();
   void RefreshIndex();
   void RoutePoses(Session& session, Port& port);
+  bool WarningDue(std::int64_t now_ns);  // rate-limits bad-input warnings (I/O thread)
 
   runtime::DdsParticipant participant_;
   runtime::DdsWaitSet waitset_;

@@ -67,7 +67,6 @@ struct SessionCounters {
   std::atomic<std::uint64_t> poses_from_other_devices{0};
   std::atomic<std::uint64_t> poses_wrong_session{0};   // in this partition but naming another session
   std::atomic<std::uint64_t> force_models_sent{0};
-  std::atomic<std::uint64_t> force_model_write_failures{0};
   std::atomic<std::uint64_t> snapshots_skipped{0};     // every ring buffer was still being read
   std::atomic<std::uint64_t> numerical_resets{0};
   std::atomic<std::uint32_t> owning_device_id{0};
@@ -92,7 +91,6 @@ class Session : public TickTask {
   SessionCounters& counters() { return counters_; }
   const SessionCounters& counters() const { return counters_; }
   bool paused() const { return paused_.load(); }
-  std::int64_t period_ns() const { return period_ns_; }
   SessionPort& port() const { return *port_; }
 
   // DDS thread only. Offers a pose: false (and counted) if another device

@@ -32,10 +32,6 @@ struct SessionDefaults {
   std::size_t max_sessions = 64;
 };
 
-// Session ids: 1 to 63 characters of [A-Za-z0-9_-] (they travel in a 64-byte
-// DDS field and appear in logs and file names).
-bool IsValidSessionId(std::string_view id);
-
 // An immutable view of the sessions at one instant, sorted by id.
 using SessionTable = std::map<std::string, std::shared_ptr<Session>, std::less<>>;
 
@@ -62,6 +58,7 @@ class SessionRegistry {
 
  private:
   void PublishTableLocked();
+  void ReleaseReservation(const std::string& id);  // a build failed
 
   SessionDefaults defaults_;
   TickPool* pool_;

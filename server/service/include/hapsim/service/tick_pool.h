@@ -46,7 +46,6 @@ class TickTask {
 struct TickPoolStats {
   std::uint64_t ticks = 0;        // RunTick calls
   std::uint64_t wakeups = 0;      // worker wake-ups (timer or notify)
-  std::uint64_t stale_pops = 0;   // heap entries superseded by a Wake()
 };
 
 class TickPool {
