@@ -19,8 +19,9 @@
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hapsim-ctl [--server HOST:PORT] COMMAND [ARGS]\n\n"
-    "Session control for a hapsim-server (default server 127.0.0.1:50051).\n\ncommands:\n"
+    "usage: hapsim-ctl [--server HOST:PORT] [--timeout-s S] COMMAND [ARGS]\n\n"
+    "Session control for a hapsim-server (default server 127.0.0.1:50051; every call gives up\n"
+    "after --timeout-s seconds, default 10).\n\ncommands:\n"
     "  scenes                              list the scenes a session can run\n"
     "  list                                list sessions with their counters\n"
     "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
@@ -78,8 +79,18 @@ bool ParseIndicators(const std::string& text, hapsim::v1::SubmitScoresRequest* r
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   std::string server = "127.0.0.1:50051";
-  if (args.size() >= 2 && args[0] == "--server") {
-    server = args[1];
+  double timeout_s = 10.0;
+  while (args.size() >= 2 && (args[0] == "--server" || args[0] == "--timeout-s")) {
+    if (args[0] == "--server") {
+      server = args[1];
+    } else {
+      char* end = nullptr;
+      timeout_s = std::strtod(args[1].c_str(), &end);
+      if (args[1].empty() || *end != '\0' || !(timeout_s > 0.0 && timeout_s <= 3600.0)) {
+        std::fprintf(stderr, "hapsim-ctl: --timeout-s wants seconds in (0, 3600], got '%s'\n", args[1].c_str());
+        return 2;
+      }
+    }
     args.erase(args.begin(), args.begin() + 2);
   }
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
@@ -99,7 +110,8 @@ int main(int argc, char** argv) {
   auto channel = grpc::CreateChannel(server, grpc::InsecureChannelCredentials());
   auto stub = hapsim::v1::SessionService::NewStub(channel);
   grpc::ClientContext ctx;
-  ctx.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(10));
+  ctx.set_deadline(std::chrono::system_clock::now() +
+                   std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(timeout_s)));
 
   if (command == "health") {
     grpc::ByteBuffer response;

@@ -8,13 +8,15 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 domain=$((150 + RANDOM % 60))
 pids=()
+server_prefix=()  # e.g. (taskset -c 0): what start_server runs the server under
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
 start_server() {
   local sessions=$1; shift
   rm -f port
-  "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --sessions "$sessions" --dds-domain "$domain" "$@" \
+  "${server_prefix[@]}" "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --sessions "$sessions" \
+      --dds-domain "$domain" "$@" \
       >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
