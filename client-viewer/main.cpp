@@ -9,8 +9,8 @@
 #include <asio/signal_set.hpp>
 #include <spdlog/spdlog.h>
 
-#include "hapsim/runtime/flags.h"
-#include "hapsim/runtime/logging.h"
+#include "hapsim/common/flags.h"
+#include "hapsim/common/logging.h"
 #include "hapsim/viewer/viewer_client.h"
 
 int main(int argc, char** argv) {
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   hapsim::viewer::ViewerOptions options;
   int frames = 0, drop_seq = -1, ack_window = 2;
   bool headless = true;
-  hapsim::runtime::Flags flags("hapsim-viewer",
+  hapsim::common::Flags flags("hapsim-viewer",
                                "Viewer of hapsim: subscribes to a session's frames (keyframe, then deltas) over gRPC,\n"
                                "resyncs on a gap, and in headless mode writes the final mesh as OBJ with counts.");
   flags.Add("server", &server, "server gRPC address host:port");
@@ -35,11 +35,11 @@ int main(int argc, char** argv) {
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
-    case hapsim::runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
-    case hapsim::runtime::Flags::Result::kError: std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str()); return 2;
-    case hapsim::runtime::Flags::Result::kOk: break;
+    case hapsim::common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str()); return 2;
+    case hapsim::common::Flags::Result::kOk: break;
   }
-  if (!hapsim::runtime::SetUpLogging("viewer", log_level)) {
+  if (!hapsim::common::SetUpLogging("viewer", log_level)) {
     std::fprintf(stderr, "hapsim-viewer: unknown --log-level '%s'\n", log_level.c_str());
     return 2;
   }

@@ -15,7 +15,7 @@
 #include "hapsim/bridge/load_plan.h"
 #include "hapsim/bridge/load_report_format.h"
 #include "hapsim/bridge/load_runner.h"
-#include "hapsim/runtime/flags.h"
+#include "hapsim/common/flags.h"
 #include "load_sessions.h"
 #include "stop_on_signal.h"
 
@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
 
-  hapsim::runtime::Flags flags("hapsim-load", kSummary);
+  hapsim::common::Flags flags("hapsim-load", kSummary);
   flags.Add("devices", &devices, "number of synthetic devices (one session each)");
   flags.Add("session-prefix", &plan_options.session_prefix, "device i drives session <prefix><i>");
   flags.Add("sessions", &sessions, "explicit session ids a,b,c (one device each; overrides --devices/--session-prefix)");

@@ -15,14 +15,14 @@
 #include "hapsim/bridge/bridge_dds.h"
 #include "hapsim/bridge/device_flags.h"
 #include "hapsim/bridge/servo_loop.h"
-#include "hapsim/runtime/flags.h"
+#include "hapsim/common/flags.h"
 #include "stop_on_signal.h"
 
 namespace {
 
 void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device, const std::string& session,
                  const hapsim::bridge::BridgeDds& dds) {
-  using hapsim::runtime::FormatPercentiles;
+  using hapsim::common::FormatPercentiles;
   using ull = unsigned long long;
   const hapsim::bridge::ChannelCounters& c = r.channel;
   std::printf("bridge: device %s, session %s\n", device.c_str(), session.c_str());
@@ -33,7 +33,7 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
               static_cast<ull>(dds.poses_written()), static_cast<ull>(c.models_taken), static_cast<ull>(c.first_echo_seq),
               static_cast<ull>(c.last_echo_seq), static_cast<ull>(c.echo_regressions));
   std::printf("bridge: DDS partition %s; models for other sessions or devices %llu (expected 0)\n",
-              hapsim::runtime::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
+              hapsim::dds::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   hapsim::bridge::ProcessFlags process;
   bool keep_running = false;
 
-  hapsim::runtime::Flags flags(
+  hapsim::common::Flags flags(
       "hapsim-bridge",
       "Device-bridge of hapsim: reads a haptic device at the servo rate, publishes its pose over DDS,\n"
       "and renders the physics server's local force model with a force clamp, a rise-rate limit and a\n"
@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
     }
     if (dds.matched_servers() == 0) {
       spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
-                   session, hapsim::runtime::SessionPartition(session));
+                   session, hapsim::dds::SessionPartition(session));
     }
     dds.Stop();
     if (!trace_file.empty() && !hapsim::bridge::WriteTraceCsv(trace_file, report.trace)) {

@@ -10,8 +10,8 @@
 #include <asio/signal_set.hpp>
 #include <spdlog/spdlog.h>
 
-#include "hapsim/runtime/flags.h"
-#include "hapsim/runtime/logging.h"
+#include "hapsim/common/flags.h"
+#include "hapsim/common/logging.h"
 #include "hapsim/service/server_app.h"
 
 namespace {
@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   std::string log_level = "info", sessions, dds_config, port_file;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
   int dds_domain = 0, max_sessions = 64;
-  hapsim::runtime::Flags flags(
+  hapsim::common::Flags flags(
       "hapsim-server",
       "Physics server of hapsim: runs tissue-simulation sessions at a fixed tick rate, takes stylus\n"
       "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
@@ -88,9 +88,9 @@ int main(int argc, char** argv) {
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
-    case hapsim::runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
-    case hapsim::runtime::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
-    case hapsim::runtime::Flags::Result::kOk: break;
+    case hapsim::common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
+    case hapsim::common::Flags::Result::kOk: break;
   }
   if (!(tick_hz >= 10.0 && tick_hz <= 10000.0)) {
     std::fprintf(stderr, "hapsim-server: --tick-hz must be within [10, 10000]\n");
@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hapsim-server: a flag is out of range (see --help)\n");
     return 2;
   }
-  if (!hapsim::runtime::SetUpLogging("server", log_level)) {
+  if (!hapsim::common::SetUpLogging("server", log_level)) {
     std::fprintf(stderr, "hapsim-server: unknown --log-level '%s'\n", log_level.c_str());
     return 2;
   }

@@ -2,7 +2,7 @@
 
 namespace hapsim::bridge {
 
-BridgeDds::BridgeDds(const runtime::DdsOptions& options, std::uint32_t device_id, std::string session)
+BridgeDds::BridgeDds(const dds::Options& options, std::uint32_t device_id, std::string session)
     : router_(device_id, {std::move(session)}), dds_(options, &router_, [this] { WriteNewestPose(); }) {}
 
 void BridgeDds::WriteNewestPose() {

@@ -1,20 +1,20 @@
 #include "hapsim/bridge/device_dds.h"
 
-#include <array>
+#include "hapsim/dds/partition.h"
 
 namespace hapsim::bridge {
 
-DeviceDds::Endpoints::Endpoints(const runtime::DdsParticipant& p, const std::string& partition)
-    : pose_writer(p, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose", partition),
-      model_reader(p, &hapsim_dds_LocalForceModel_desc, "hapsim_LocalForceModel", partition) {}
+DeviceDds::Endpoints::Endpoints(const hapsim::dds::Participant& p, const std::string& partition)
+    : pose_writer(p, &hapsim_dds_StylusPose_desc, hapsim::dds::kPoseTopic, partition),
+      model_reader(p, &hapsim_dds_LocalForceModel_desc, hapsim::dds::kModelTopic, partition) {}
 
-DeviceDds::DeviceDds(const runtime::DdsOptions& options, ModelRouter* router, std::function<void()> on_wake)
-    : participant_(options), waitset_(participant_), router_(router), on_wake_(std::move(on_wake)) {
+DeviceDds::DeviceDds(const hapsim::dds::Options& options, ModelRouter* router, std::function<void()> on_wake)
+    : participant_(options), router_(router), on_wake_(std::move(on_wake)), io_(participant_) {
   devices_.reserve(router_->devices());
   for (std::size_t i = 0; i < router_->devices(); ++i) {
-    auto e = std::make_unique<Endpoints>(participant_, runtime::SessionPartition(router_->session(i)));
+    auto e = std::make_unique<Endpoints>(participant_, hapsim::dds::SessionPartition(router_->session(i)));
     // Tag i + 1: 0 is the waitset's guard condition.
-    e->read_condition = waitset_.AttachReader(e->model_reader.handle(), static_cast<dds_attach_t>(i + 1));
+    e->read_condition = io_.AttachReader(e->model_reader.handle(), static_cast<dds_attach_t>(i + 1));
     devices_.push_back(std::move(e));
   }
 }
@@ -22,15 +22,10 @@ DeviceDds::DeviceDds(const runtime::DdsOptions& options, ModelRouter* router, st
 DeviceDds::~DeviceDds() { Stop(); }
 
 void DeviceDds::Start() {
-  stop_ = false;
-  thread_ = std::thread([this] { Run(); });
+  io_.Start({on_wake_, [this](dds_attach_t tag) { OnReader(tag); }});
 }
 
-void DeviceDds::Stop() {
-  stop_ = true;
-  waitset_.Wake();
-  if (thread_.joinable()) thread_.join();
-}
+void DeviceDds::Stop() { io_.Stop(); }
 
 bool DeviceDds::WritePose(const hapsim_dds_StylusPose& pose) {
   // Unsigned wrap-around sends ids below the first past the end too.
@@ -45,17 +40,9 @@ std::uint32_t DeviceDds::MatchedServers(std::size_t device) const {
   return status.current_count;
 }
 
-void DeviceDds::Run() {
-  std::array<dds_attach_t, 64> tags;
-  while (!stop_.load()) {
-    const std::size_t n = waitset_.Wait(5'000'000, tags);
-    if (on_wake_) on_wake_();
-    for (std::size_t i = 0; i < n; ++i) {
-      if (tags[i] == runtime::DdsWaitSet::kGuardTag) continue;
-      const auto device = static_cast<std::size_t>(tags[i] - 1);
-      if (device < devices_.size()) TakeAndRouteModels(devices_[device]->model_reader, *router_);
-    }
-  }
+void DeviceDds::OnReader(dds_attach_t tag) {
+  const auto device = static_cast<std::size_t>(tag - 1);
+  if (device < devices_.size()) TakeAndRouteModels(devices_[device]->model_reader, *router_);
 }
 
 }  // namespace hapsim::bridge

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "hapsim/runtime/logging.h"
+#include "hapsim/common/logging.h"
 
 namespace hapsim::bridge {
 
@@ -18,7 +18,7 @@ SyntheticScript ScriptFlags::ToScript() const {
   return s;
 }
 
-void AddScriptFlags(runtime::Flags& flags, ScriptFlags* s, const std::string& seed_help) {
+void AddScriptFlags(common::Flags& flags, ScriptFlags* s, const std::string& seed_help) {
   flags.Add("script", &s->kind, "synthetic script: insertion, constant_speed, random_walk or hold");
   flags.Add("depth-mm", &s->depth_mm, "synthetic: deepest tip position below the surface [mm]");
   flags.Add("speed-mm-s", &s->speed_mm_s, "synthetic: tip speed [mm/s]");
@@ -40,7 +40,7 @@ SafetyConfig SafetyFlags::ToConfig() const {
   return c;
 }
 
-void AddSafetyFlags(runtime::Flags& flags, SafetyFlags* s) {
+void AddSafetyFlags(common::Flags& flags, SafetyFlags* s) {
   flags.Add("max-force-n", &s->max_force_N, "force clamp [N] (Phantom Omni peak: 3.3 N)");
   flags.Add("max-force-rise-n-per-s", &s->max_rise_N_per_s, "largest rise of the force magnitude [N/s]");
   flags.Add("watchdog-warn-ms", &s->warn_ms, "model older than this: warning [ms]");
@@ -48,25 +48,25 @@ void AddSafetyFlags(runtime::Flags& flags, SafetyFlags* s) {
   flags.Add("watchdog-disarm-ms", &s->disarm_ms, "model older than this: zero force until a fresh model [ms]");
 }
 
-void AddProcessFlags(runtime::Flags& flags, ProcessFlags* p) {
+void AddProcessFlags(common::Flags& flags, ProcessFlags* p) {
   flags.Add("dds-domain", &p->dds_domain, "DDS domain id (0..232)");
   flags.Add("dds-config", &p->dds_config, "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else built-in loopback)");
   flags.Add("log-level", &p->log_level, "trace, debug, info, warn, error or off");
 }
 
-int ParseCommandLine(runtime::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
+int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
                      const char* log_name) {
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
-    case runtime::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
-    case runtime::Flags::Result::kError: std::fprintf(stderr, "%s: %s\n", program, error.c_str()); return 2;
-    case runtime::Flags::Result::kOk: break;
+    case common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case common::Flags::Result::kError: std::fprintf(stderr, "%s: %s\n", program, error.c_str()); return 2;
+    case common::Flags::Result::kOk: break;
   }
   if (process.dds_domain < 0 || process.dds_domain > 232) {
     std::fprintf(stderr, "%s: --dds-domain must be in 0..232\n", program);
     return 2;
   }
-  if (!runtime::SetUpLogging(log_name, process.log_level)) {
+  if (!common::SetUpLogging(log_name, process.log_level)) {
     std::fprintf(stderr, "%s: unknown --log-level '%s'\n", program, process.log_level.c_str());
     return 2;
   }

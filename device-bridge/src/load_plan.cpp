@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "hapsim/runtime/session_id.h"
+#include "hapsim/common/session_id.h"
 
 namespace hapsim::bridge {
 
@@ -28,7 +28,7 @@ std::vector<LoadDevicePlan> PlanDevices(const LoadPlanOptions& o) {
   if (!(o.phase_spread_s >= 0.0)) throw std::invalid_argument("--phase-spread-s must be >= 0");
   std::set<std::string> seen;
   for (const auto& s : sessions) {
-    if (!runtime::IsValidSessionId(s)) throw std::invalid_argument("session id '" + s + "' is not [A-Za-z0-9_-]{1,63}");
+    if (!common::IsValidSessionId(s)) throw std::invalid_argument("session id '" + s + "' is not [A-Za-z0-9_-]{1,63}");
     if (!seen.insert(s).second) throw std::invalid_argument("session '" + s + "' is listed twice (one device per session)");
   }
   const std::size_t n = sessions.size();

@@ -23,7 +23,7 @@ std::string Printf(const char* format, ...) {
 
 unsigned long long U(std::uint64_t v) { return static_cast<unsigned long long>(v); }
 
-void PercentilesMs(JsonWriter& w, const char* key, const runtime::Percentiles& p) {
+void PercentilesMs(JsonWriter& w, const char* key, const common::Percentiles& p) {
   w.BeginObject(key);
   w.Field("count", static_cast<std::uint64_t>(p.count));
   w.Field("p50", p.p50 * kMs);
@@ -94,7 +94,7 @@ void ServerJson(JsonWriter& w, const ServerSessionStats& s) {
 
 std::string TableRow(const std::string& device, const std::string& session, const LoadFlow& f,
                      const std::string& echo) {
-  const runtime::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
+  const common::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
   return Printf("%-8s %-14s %8.1f %8llu  %6.3f %6.3f %7.3f  %6.3f %6.3f %7.3f  %-22s %5llu %5llu %6llu %7llu\n",
                 device.c_str(), session.c_str(), f.pose_rate_hz, U(f.models_received), rtt.p50 * kMs, rtt.p99 * kMs,
                 rtt.max * kMs, age.p50 * kMs, age.p99 * kMs, age.max * kMs, echo.c_str(), U(f.safety.warnings),
@@ -105,7 +105,7 @@ std::string TableRow(const std::string& device, const std::string& session, cons
 // cannot drift from the device rows).
 std::string CsvFlowAndEcho(const LoadFlow& f, std::uint64_t first_echo, std::uint64_t last_echo,
                            const char* final_watchdog) {
-  const runtime::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
+  const common::Percentiles &rtt = f.round_trip_s, &age = f.model_age_s;
   return Printf("%llu,%.3f,%llu,%llu,%llu,%llu,%llu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%llu,%llu,%llu,%llu,%s\n",
                 U(f.poses_sent), f.pose_rate_hz, U(f.models_received), U(f.models_used), U(first_echo),
                 U(last_echo), U(f.echo_regressions), rtt.p50 * kMs, rtt.p99 * kMs, rtt.max * kMs, age.p50 * kMs,
@@ -131,8 +131,8 @@ std::string FormatLoadTable(const LoadReport& r) {
                   Printf("regressions %llu", U(t.flow.echo_regressions)));
   out += "(times in ms)\n";
   out += Printf("servo thread: %llu ticks, lateness %s, work per tick %s, re-anchors %llu\n", U(r.servo.ticks),
-                runtime::FormatPercentiles(r.servo.lateness_s, kMs, "ms").c_str(),
-                runtime::FormatPercentiles(r.servo.work_s, kMs, "ms").c_str(), U(r.servo.reanchors));
+                common::FormatPercentiles(r.servo.lateness_s, kMs, "ms").c_str(),
+                common::FormatPercentiles(r.servo.work_s, kMs, "ms").c_str(), U(r.servo.reanchors));
   out += Printf("models dropped: %llu for other devices, %llu for our devices but another session\n",
                 U(r.models_for_unknown_devices), U(r.models_for_other_sessions));
   if (!r.server.empty()) {

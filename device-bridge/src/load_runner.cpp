@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "hapsim/bridge/deadline_ticker.h"
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 
@@ -59,13 +59,13 @@ void LoadRunner::StepDevice(std::size_t i, double t_s) {
 
 LoadReport LoadRunner::Run(const std::atomic<bool>& stop) {
   DeadlineTicker ticker(config_.rate_hz, StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1));
-  runtime::SampleWindow work_s(StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1));
+  common::SampleWindow work_s(StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1));
   while (!stop.load(std::memory_order_relaxed)) {
     const double t = ticker.Wait();
     if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
-    const std::int64_t start_ns = runtime::SteadyNowNs();
+    const std::int64_t start_ns = common::SteadyNowNs();
     for (std::size_t i = 0; i < channels_.size(); ++i) StepDevice(i, t);
-    work_s.Record(static_cast<double>(runtime::SteadyNowNs() - start_ns) * 1e-9);
+    work_s.Record(static_cast<double>(common::SteadyNowNs() - start_ns) * 1e-9);
   }
   for (auto& device : devices_) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
   LoadReport report = Report(ticker.ElapsedS());

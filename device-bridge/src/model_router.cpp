@@ -3,7 +3,7 @@
 #include <array>
 #include <cstring>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 
@@ -28,12 +28,12 @@ void ModelRouter::Route(const hapsim_dds_LocalForceModel& model, std::int64_t re
   slot.routed.fetch_add(1, std::memory_order_relaxed);
 }
 
-std::size_t TakeAndRouteModels(runtime::DdsReader<hapsim_dds_LocalForceModel>& reader, ModelRouter& router) {
+std::size_t TakeAndRouteModels(dds::Reader<hapsim_dds_LocalForceModel>& reader, ModelRouter& router) {
   std::array<hapsim_dds_LocalForceModel, 16> batch;
   std::size_t total = 0;
   for (;;) {
     const std::size_t n = reader.Take(batch);
-    const std::int64_t now_ns = runtime::SteadyNowNs();
+    const std::int64_t now_ns = common::SteadyNowNs();
     for (std::size_t i = 0; i < n; ++i) router.Route(batch[i], now_ns);
     total += n;
     if (n < batch.size()) return total;

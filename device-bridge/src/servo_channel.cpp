@@ -4,7 +4,7 @@
 #include <cstring>
 #include <string_view>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 
@@ -33,7 +33,7 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
 const DeviceReading& ServoChannel::Sense(double t_s) {
   tick_.reading = device_->Read(t_s);
   const DeviceReading& r = tick_.reading;
-  sensed_ns_ = runtime::SteadyNowNs();
+  sensed_ns_ = common::SteadyNowNs();
   const std::uint64_t seq = next_seq_++;
   pose_.seq = seq;
   pose_.t_device_ns = sensed_ns_;
@@ -51,7 +51,7 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
   return r;
 }
 
-void ServoChannel::TakeNewestModel(runtime::LatestValue<ReceivedModel>& inbox) {
+void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   tick_.round_trip_s = -1.0;
   if (!inbox.TakeIfNew(&model_)) return;
   const std::uint64_t echo = model_.msg.echo_pose_seq;
@@ -67,7 +67,7 @@ void ServoChannel::TakeNewestModel(runtime::LatestValue<ReceivedModel>& inbox) {
   have_model_ = true;
 }
 
-const ChannelTick& ServoChannel::Actuate(runtime::LatestValue<ReceivedModel>& inbox) {
+const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inbox) {
   TakeNewestModel(inbox);
   // A model can land between Sense's clock read and the take: age 0, not
   // negative (negative means "no model" to the safety layer).

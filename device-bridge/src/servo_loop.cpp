@@ -7,8 +7,8 @@
 namespace hapsim::bridge {
 
 ServoLoop::ServoLoop(HapticDevice* device, ServoConfig config,
-                     runtime::LatestValue<hapsim_dds_StylusPose>* pose_out,
-                     runtime::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io)
+                     common::LatestValue<hapsim_dds_StylusPose>* pose_out,
+                     common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io)
     : device_(device), config_(std::move(config)), pose_out_(pose_out), model_in_(model_in), wake_io_(std::move(wake_io)) {}
 
 ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/integrators/paper_problems.h"
-#include "hapsim/core/integrators/particle_steppers.h"
-#include "hapsim/core/integrators/stability.h"
+#include "hapsim/core/msm/paper_problems.h"
+#include "hapsim/core/msm/particle_steppers.h"
+#include "hapsim/core/msm/stability.h"
 #include "number_format.h"
 #include "validate_command.h"
 

@@ -9,9 +9,9 @@
 #include <ostream>
 #include <string>
 
-#include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/local_region.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 #include "number_format.h"
 
 namespace hapsim::validate {

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/scenes/acupuncture_scene.h"
+#include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
 #include "hapsim/core/scenes/scene.h"
 #include "validate_command.h"
 

@@ -21,7 +21,8 @@
 
 #include "hapsim/core/shf/layered_sh_body.h"
 #include "hapsim/core/shf/limb_segment.h"
-#include "hapsim/core/shf/obj_mesh.h"
+#include "hapsim/core/mesh/triangle_mesh.h"
+#include "hapsim/io/obj_reader.h"
 #include "hapsim/core/shf/sh_fit.h"
 #include "validate_command.h"
 
@@ -94,7 +95,7 @@ int Run(const std::filesystem::path& out) {
   const LimbSegmentDef limb;
   const std::string obj_text = StarObj(40, 80);
   std::ofstream(out / "star.obj") << obj_text;
-  const ObjMesh obj = ParseObj(obj_text);
+  const TriangleMesh obj = io::ParseObj(obj_text);
   const bool obj_star = IsStarShapedAbout(obj, Eigen::Vector3d::Zero());
 
   for (int lmax : kLmaxes) {

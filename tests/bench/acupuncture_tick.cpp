@@ -9,7 +9,7 @@
 
 #include "hapsim/core/needle/force_net.h"
 #include "hapsim/core/needle/tissue_layers.h"
-#include "hapsim/core/scenes/acupuncture_scene.h"
+#include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
 #include "hapsim/core/shape_matching/shape_matching.h"
 
 namespace {

@@ -29,8 +29,8 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/integrators/msm_step.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/msm/msm_step.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 
 namespace {
 

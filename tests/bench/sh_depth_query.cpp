@@ -3,7 +3,7 @@
 // acupuncture scene runs one 4-surface query per tick.
 #include <benchmark/benchmark.h>
 
-#include "hapsim/core/scenes/acupuncture_body.h"
+#include "hapsim/core/scenes/acupuncture/acupuncture_body.h"
 #include "hapsim/core/shf/real_spherical_harmonics.h"
 
 namespace {

@@ -10,7 +10,7 @@
 
 #include "allocation_counter.h"
 #include "hapsim/core/haptics/local_force_model.h"
-#include "hapsim/core/scenes/acupuncture_scene.h"
+#include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
 
 namespace hapsim::core {
 namespace {

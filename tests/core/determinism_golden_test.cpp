@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <string>
 
-#include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/spring_kernel.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 
 namespace hapsim::core {
 namespace {

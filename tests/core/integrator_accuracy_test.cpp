@@ -7,9 +7,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "hapsim/core/integrators/paper_problems.h"
-#include "hapsim/core/integrators/particle_steppers.h"
-#include "hapsim/core/integrators/stability.h"
+#include "hapsim/core/msm/paper_problems.h"
+#include "hapsim/core/msm/particle_steppers.h"
+#include "hapsim/core/msm/stability.h"
 
 namespace hapsim::core {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "hapsim/core/integrators/msm_step.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/msm/msm_step.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 
 namespace hapsim::core {
 namespace {

@@ -1,7 +1,7 @@
 // Every MSM integrator against its scalar definition (with m != 1, so the
 // paper's dropped /m would show), per-step energy identities on the
 // undamped oscillator, the stability guard and the critical time step.
-#include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/msm_step.h"
 
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "allocation_counter.h"
-#include "hapsim/core/integrators/particle_steppers.h"
-#include "hapsim/core/integrators/stability.h"
+#include "hapsim/core/msm/particle_steppers.h"
+#include "hapsim/core/msm/stability.h"
 #include "hapsim/core/msm/msm_forces.h"
 #include "msm_test_models.h"
 

@@ -3,7 +3,7 @@
 #pragma once
 #include <string>
 
-#include "hapsim/core/integrators/integrator_kind.h"
+#include "hapsim/core/msm/integrator_kind.h"
 #include "hapsim/core/msm/msm_model.h"
 
 namespace hapsim::core::test {

@@ -8,9 +8,9 @@
 
 #include <gtest/gtest.h>
 
-#include "hapsim/core/scenes/acupuncture_params.h"
+#include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 
 namespace hapsim::core {
 namespace {

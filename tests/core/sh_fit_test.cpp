@@ -8,7 +8,7 @@
 
 #include "hapsim/core/shf/layered_sh_body.h"
 #include "hapsim/core/shf/limb_segment.h"
-#include "hapsim/core/shf/obj_mesh.h"
+#include "hapsim/core/mesh/triangle_mesh.h"
 #include "hapsim/core/shf/sh_fit.h"
 
 namespace hapsim::core {
@@ -125,33 +125,36 @@ TEST(RadialDepthQuery, RadiallyFittedEllipsoidMatchesAnalyticRadius) {
   EXPECT_NEAR(body.OutwardNormal_W(0, Eigen::Vector3d(0, 0, 1)).z(), 1.0, 1e-6);
 }
 
-TEST(ObjMesh, StarShapedMeshIsParsedCheckedAndFitted) {
-  // Octahedron-like star shape written as OBJ text (quads fan-triangulated).
-  std::string obj = "# star\n";
-  const int nt = 12, np = 24;
+// A star-shaped test surface r(u) = 0.05 + 0.01 u_x u_y on a latitude-
+// longitude grid, quads split in two (the same triangles hapsim::io's OBJ
+// reader makes of the tests/io copy of this mesh).
+TriangleMesh StarMesh(int nt, int np) {
+  TriangleMesh mesh;
+  mesh.vertices_m.resize(3, (nt + 1) * np);
   for (int i = 0; i <= nt; ++i)
     for (int j = 0; j < np; ++j) {
       const double th = std::numbers::pi * i / nt, ph = 2 * std::numbers::pi * j / np;
       const Eigen::Vector3d u = AnglesToDirection(th, ph);
-      const Eigen::Vector3d q = (0.05 + 0.01 * u.x() * u.y()) * u;
-      obj += "v " + std::to_string(q.x()) + " " + std::to_string(q.y()) + " " + std::to_string(q.z()) + "\n";
+      mesh.vertices_m.col(i * np + j) = (0.05 + 0.01 * u.x() * u.y()) * u;
     }
   for (int i = 0; i < nt; ++i)
     for (int j = 0; j < np; ++j) {
-      const int a = i * np + j + 1, b = i * np + (j + 1) % np + 1;
-      obj += "f " + std::to_string(a) + " " + std::to_string(a + np) + "/1/1 " + std::to_string(b + np) + " " +
-             std::to_string(b) + "\n";
+      const int a = i * np + j, b = i * np + (j + 1) % np;
+      mesh.triangles.push_back({a, a + np, b + np});
+      mesh.triangles.push_back({a, b + np, b});
     }
-  const ObjMesh mesh = ParseObj(obj);
-  EXPECT_EQ(mesh.vertices_m.cols(), (nt + 1) * np);
-  EXPECT_EQ(mesh.triangles.size(), static_cast<std::size_t>(2 * nt * np));
+  return mesh;
+}
+
+TEST(TriangleMesh, StarShapedMeshIsCheckedAndFittedExactly) {
+  const TriangleMesh mesh = StarMesh(12, 24);
   EXPECT_TRUE(IsStarShapedAbout(mesh, Eigen::Vector3d::Zero()));
   EXPECT_FALSE(IsStarShapedAbout(mesh, Eigen::Vector3d(0.2, 0.0, 0.0)));  // centre outside
+  EXPECT_FALSE(IsStarShapedAbout(TriangleMesh{}, Eigen::Vector3d::Zero()));
   const ShFitResult fit = FitShSurface(4, RadialAngles(mesh.vertices_m, Eigen::Vector3d::Zero()), mesh.vertices_m);
-  // 0.05 + 0.01 xy is degree 2 in u, times u: degree 3, and OBJ text keeps 6 digits.
-  EXPECT_LT(fit.max_residual_m, 2e-6);
-  EXPECT_THROW(ParseObj("v 1 2\n"), std::invalid_argument);
-  EXPECT_THROW(ParseObj("v 1 2 3\nf 1 2 5\n"), std::invalid_argument);
+  // 0.05 + 0.01 xy is degree 2 in u, times u: degree 3 <= Lmax, so the fit
+  // is exact up to round-off.
+  EXPECT_LT(fit.max_residual_m, 1e-12);
 }
 
 }  // namespace

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_topology.h"
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 #include "msm_test_models.h"
 
 namespace hapsim::core {

@@ -1,7 +1,7 @@
 // tissue_block: the scene the server runs first. Forces must be real
 // (from the deformed mass-spring surface), consistent with the local force
 // model sent to the device, deterministic and allocation-free per step.
-#include "hapsim/core/scenes/tissue_block.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
 
 #include <gtest/gtest.h>
 

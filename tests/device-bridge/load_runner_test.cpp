@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -41,7 +41,7 @@ TEST(LoadRunner, EachDeviceReceivesItsOwnEchoesInOrderWithARoundTrip) {
     model.device_id = pose.device_id;
     std::memcpy(model.session, pose.session, sizeof model.session);
     model.echo_pose_seq = pose.seq;
-    router.Route(model, runtime::SteadyNowNs());
+    router.Route(model, common::SteadyNowNs());
     return true;
   });
   std::atomic<bool> stop{false};

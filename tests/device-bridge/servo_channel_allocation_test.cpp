@@ -6,7 +6,7 @@
 #include "backends/synthetic_device.h"
 #include "core/allocation_counter.h"
 #include "hapsim/bridge/servo_channel.h"
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -17,7 +17,7 @@ TEST_P(ServoChannelAllocation, ATickAllocatesNothing) {
   SyntheticScript script;
   script.kind = GetParam();
   SyntheticDevice device(script);
-  runtime::LatestValue<ReceivedModel> inbox;
+  common::LatestValue<ReceivedModel> inbox;
   ServoChannel channel(&device, ChannelConfig{});
   ReceivedModel model;
   model.msg.state = 1;
@@ -28,7 +28,7 @@ TEST_P(ServoChannelAllocation, ATickAllocatesNothing) {
   for (int tick = 0; tick < 200; ++tick) {
     channel.Sense(tick * 1e-3);
     model.msg.echo_pose_seq = channel.pose().seq;
-    model.received_ns = runtime::SteadyNowNs();
+    model.received_ns = common::SteadyNowNs();
     if (tick % 2 == 0) inbox.Publish(model);
     channel.Actuate(inbox);
   }

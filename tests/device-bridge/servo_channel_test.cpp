@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "backends/synthetic_device.h"
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -33,7 +33,7 @@ ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns
 class ServoChannelTest : public ::testing::Test {
  protected:
   SyntheticDevice device_{PressedTwoMillimetres()};
-  runtime::LatestValue<ReceivedModel> inbox_;
+  common::LatestValue<ReceivedModel> inbox_;
   ServoChannel channel_{&device_, ChannelConfig{7, "room-1", 0.001, {}, 1024}};
 };
 
@@ -62,7 +62,7 @@ TEST_F(ServoChannelTest, AModelEchoingAPoseGivesTheTimeFromSensingToArrival) {
 
 TEST_F(ServoChannelTest, NoNewModelMeansNoRoundTripThisTick) {
   channel_.Sense(0.0);
-  inbox_.Publish(ContactModel(0, runtime::SteadyNowNs()));
+  inbox_.Publish(ContactModel(0, common::SteadyNowNs()));
   channel_.Actuate(inbox_);
   channel_.Sense(0.001);
   EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
@@ -72,7 +72,7 @@ TEST_F(ServoChannelTest, NoNewModelMeansNoRoundTripThisTick) {
 
 TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
   channel_.Sense(0.0);
-  inbox_.Publish(ContactModel(99, runtime::SteadyNowNs()));
+  inbox_.Publish(ContactModel(99, common::SteadyNowNs()));
   EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
   EXPECT_EQ(channel_.RoundTrip().count, 0u);
 }
@@ -80,7 +80,7 @@ TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
 TEST_F(ServoChannelTest, AnEchoOlderThanThePreviousCountsAsARegression) {
   for (std::uint64_t echo : {0u, 2u, 1u, 3u}) {
     channel_.Sense(0.0);
-    inbox_.Publish(ContactModel(echo, runtime::SteadyNowNs()));
+    inbox_.Publish(ContactModel(echo, common::SteadyNowNs()));
     channel_.Actuate(inbox_);
   }
   EXPECT_EQ(channel_.counters().echo_regressions, 1u);
@@ -92,7 +92,7 @@ TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZ
   // The same model ever older: received 30, then 70, then 200 ms before the tick.
   for (const std::int64_t age_ms : {30, 70, 200, 210}) {
     channel_.Sense(0.0);
-    inbox_.Publish(ContactModel(0, runtime::SteadyNowNs() - age_ms * kMsNs));
+    inbox_.Publish(ContactModel(0, common::SteadyNowNs() - age_ms * kMsNs));
     channel_.Actuate(inbox_);
   }
   EXPECT_EQ(channel_.safety_counters().warnings, 1u);
@@ -104,7 +104,7 @@ TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZ
 
 TEST_F(ServoChannelTest, AFreshContactModelPushesTheToolOutOfTheTissue) {
   channel_.Sense(0.0);
-  inbox_.Publish(ContactModel(0, runtime::SteadyNowNs()));
+  inbox_.Publish(ContactModel(0, common::SteadyNowNs()));
   const ChannelTick& tick = channel_.Actuate(inbox_);
   EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);  // 500 N/m * 2 mm
   EXPECT_NEAR(tick.force_W_N.z(), 0.05, 1e-9);     // first tick: rise limit 50 N/s * 1 ms

@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "backends/synthetic_device.h"
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -20,8 +20,8 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   script.start_height_m = 0.0;
   script.entry_W_m = Eigen::Vector3d(0, 0, -0.002);  // held 2 mm into the tissue: the contact model pushes
   SyntheticDevice device(script);
-  runtime::LatestValue<hapsim_dds_StylusPose> poses;
-  runtime::LatestValue<ReceivedModel> models;
+  common::LatestValue<hapsim_dds_StylusPose> poses;
+  common::LatestValue<ReceivedModel> models;
   ServoConfig config;
   config.run_seconds = 0.4;
   config.trace_capacity = 1000;
@@ -33,7 +33,7 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   m.msg.normal[2] = 1.0;
   m.msg.stiffness_n_per_m = 500.0;
   m.msg.echo_pose_seq = 0;
-  m.received_ns = runtime::SteadyNowNs();
+  m.received_ns = common::SteadyNowNs();
   models.Publish(m);
   std::atomic<bool> stop{false};
   const ServoReport r = loop.Run(stop);

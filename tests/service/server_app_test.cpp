@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hapsim/runtime/dds.h"
+#include "hapsim/dds/dds.h"
 #include "hapsim/service/server_app.h"
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
@@ -129,9 +129,9 @@ TEST_F(ServerAppTest, OversizedMessageIsRefusedAndServerStaysUp) {
 
 TEST_F(ServerAppTest, NanPosesAreDroppedAndCountedWhileTheSessionKeepsTicking) {
   ASSERT_TRUE(Create("nan").ok());
-  runtime::DdsParticipant participant({domain_, ""});
-  runtime::DdsWriter<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose",
-                                                   runtime::SessionPartition("nan"));
+  dds::Participant participant({domain_, ""});
+  dds::Writer<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose",
+                                                   dds::SessionPartition("nan"));
   hapsim_dds_StylusPose pose{};
   pose.device_id = 7;
   std::strcpy(pose.session, "nan");
@@ -159,9 +159,9 @@ TEST_F(ServerAppTest, NanPosesAreDroppedAndCountedWhileTheSessionKeepsTicking) {
 struct TestDevice {
   TestDevice(std::uint32_t domain, const std::string& partition_session, std::uint32_t device_id)
       : participant({domain, ""}),
-        writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose", runtime::SessionPartition(partition_session)),
+        writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose", dds::SessionPartition(partition_session)),
         reader(participant, &hapsim_dds_LocalForceModel_desc, "hapsim_LocalForceModel",
-               runtime::SessionPartition(partition_session)) {
+               dds::SessionPartition(partition_session)) {
     pose.device_id = device_id;
     std::strncpy(pose.session, partition_session.c_str(), sizeof pose.session - 1);
     pose.quat_wxyz[0] = 1.0;
@@ -179,9 +179,9 @@ struct TestDevice {
       }
     }
   }
-  runtime::DdsParticipant participant;
-  runtime::DdsWriter<hapsim_dds_StylusPose> writer;
-  runtime::DdsReader<hapsim_dds_LocalForceModel> reader;
+  dds::Participant participant;
+  dds::Writer<hapsim_dds_StylusPose> writer;
+  dds::Reader<hapsim_dds_LocalForceModel> reader;
   hapsim_dds_StylusPose pose{};
   std::uint64_t models_own = 0, models_other = 0;
 };

@@ -18,14 +18,14 @@ constexpr std::int64_t kPeriodNs = 1'000'000;      // 1 kHz
 
 struct CapturedModels {
   std::uint64_t count = 0;
-  hapsim_dds_LocalForceModel last{};
+  ForceModelMessage last{};
 };
 
 // An in-memory port: keeps the newest force model.
 class CapturingPort : public SessionPort {
  public:
   explicit CapturingPort(CapturedModels* models) : models_(models) {}
-  bool WriteForceModel(const hapsim_dds_LocalForceModel& m) override {
+  bool WriteForceModel(const ForceModelMessage& m) override {
     ++models_->count;
     models_->last = m;
     return true;
@@ -74,7 +74,7 @@ TEST_P(EveryScene, TheTickAllocatesNothingWhilePressingAndPublishingSnapshots) {
   auto tick = [&] {
     session->OfferPose(PressingPose(seq++, 1, now));
     session->RunTick(now, now);
-    if (session->TakeSnapshot(&snapshot)) session->SetLatestSnapshot(snapshot);  // as the frame pump does
+    session->TakeSnapshot(&snapshot);  // as the frame pump does: it holds the newest
     now += kPeriodNs;
   };
   for (int i = 0; i < 200; ++i) tick();  // warm-up: contact begins, topology arrays shared once

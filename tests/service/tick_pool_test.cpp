@@ -9,12 +9,12 @@
 
 #include <gtest/gtest.h>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::service {
 namespace {
 
-using runtime::SteadyNowNs;
+using common::SteadyNowNs;
 constexpr std::int64_t kMs = 1'000'000;
 
 // Ticks every period_ns on its own deadline and records what it saw.

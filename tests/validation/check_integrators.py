@@ -22,7 +22,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 HEADER = ["problem", "method", "alpha", "h", "t", "value", "reference", "abs_error"]
-# The damped particle of hapsim/core/integrators/paper_problems.h.
+# The damped particle of hapsim/core/msm/paper_problems.h.
 M, K, C, X0, V0 = 2.0, 8.0, 0.8, 1.0, 0.0
 
 failures = []

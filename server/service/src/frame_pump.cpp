@@ -2,13 +2,12 @@
 
 #include <chrono>
 
-#include "hapsim/runtime/clock.h"
-#include "hapsim/service/viewer_link.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::service {
 
-FramePump::FramePump(SessionRegistry* registry, double poll_period_s)
-    : registry_(registry), poll_period_s_(poll_period_s) {}
+FramePump::FramePump(const SessionRegistry* registry, ViewerHub* hub, double poll_period_s)
+    : registry_(registry), hub_(hub), poll_period_s_(poll_period_s) {}
 
 FramePump::~FramePump() { Stop(); }
 
@@ -29,15 +28,8 @@ void FramePump::Stop() {
 }
 
 void FramePump::PumpOnce() {
-  const std::int64_t now = runtime::SteadyNowNs();
-  const auto table = registry_->Table();  // never the registry mutex a slow Create may hold
-  for (const auto& [id, session] : *table) {
-    std::shared_ptr<const SceneSnapshot> fresh;
-    if (session->TakeSnapshot(&fresh)) session->SetLatestSnapshot(fresh);
-    const auto latest = session->LatestSnapshot();
-    if (!latest) continue;
-    for (const auto& viewer : session->Viewers()) viewer->Offer(latest, now);
-  }
+  // The copy-on-write table: never the registry mutex a slow Create may hold.
+  hub_->Pump(*registry_->Table(), common::SteadyNowNs());
 }
 
 }  // namespace hapsim::service

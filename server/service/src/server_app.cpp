@@ -12,10 +12,10 @@ ServerApp::ServerApp(const ServerOptions& o) {
   spdlog::info("DDS domain {} with config: {}", o.dds.domain_id, dds_->config_origin());
   pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
   spdlog::info("tick pool: {} workers", pool_->workers());
-  registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get());
-  pump_ = std::make_unique<FramePump>(registry_.get());
-  session_service_ = std::make_unique<SessionServiceImpl>(registry_.get(), &scores_);
-  viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), o.quantum_m);
+  registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get(), &viewers_);
+  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_);
+  session_service_ = std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_);
+  viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m);
 
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;

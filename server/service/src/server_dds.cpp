@@ -5,15 +5,31 @@
 
 #include <spdlog/spdlog.h>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
+#include "hapsim/dds/partition.h"
+#include "hapsim/dds/topics.h"
 
 namespace hapsim::service {
 
 namespace {
-constexpr const char* kPoseTopic = "hapsim_StylusPose";
-constexpr const char* kModelTopic = "hapsim_LocalForceModel";
-constexpr std::int64_t kWaitTimeoutNs = 5'000'000;          // wake at least every 5 ms
 constexpr std::int64_t kWarningIntervalNs = 2'000'000'000;  // rate-limit bad-input warnings
+
+void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
+  out.device_id = in.device_id;
+  out.seq = in.seq;
+  out.echo_pose_seq = in.echo_pose_seq;
+  out.t_server_ns = in.t_server_ns;
+  out.state = static_cast<std::uint8_t>(in.model.state);
+  for (int i = 0; i < 3; ++i) {
+    out.anchor_m[i] = in.model.anchor_W_m[i];
+    out.normal[i] = in.model.normal_W[i];
+    out.feedforward_n[i] = in.model.feedforward_W_N[i];
+    out.tool_force_n[i] = in.tool_force_W_N[i];
+  }
+  out.stiffness_n_per_m = in.model.stiffness_N_per_m;
+  out.damping_ns_per_m = in.model.damping_Ns_per_m;
+}
+
 }  // namespace
 
 // One session's endpoints in its partition.
@@ -21,12 +37,19 @@ class ServerDds::Port : public SessionPort {
  public:
   Port(ServerDds* owner, const std::string& session_id)
       : owner_(owner),
-        pose_reader_(owner->participant_, &hapsim_dds_StylusPose_desc, kPoseTopic, runtime::SessionPartition(session_id)),
-        model_writer_(owner->participant_, &hapsim_dds_LocalForceModel_desc, kModelTopic,
-                      runtime::SessionPartition(session_id)) {}
+        pose_reader_(owner->participant_, &hapsim_dds_StylusPose_desc, hapsim::dds::kPoseTopic,
+                     hapsim::dds::SessionPartition(session_id)),
+        model_writer_(owner->participant_, &hapsim_dds_LocalForceModel_desc, hapsim::dds::kModelTopic,
+                      hapsim::dds::SessionPartition(session_id)) {
+    // The session id is the same in every model: written once (NUL-padded).
+    session_id.copy(wire_.session, sizeof wire_.session - 1);
+  }
 
-  bool WriteForceModel(const hapsim_dds_LocalForceModel& model) override {
-    if (model_writer_.Write(model)) {
+  // Tick worker (one at a time): packs into the port's own wire struct, so
+  // nothing is allocated.
+  bool WriteForceModel(const ForceModelMessage& message) override {
+    Pack(message, wire_);
+    if (model_writer_.Write(wire_)) {
       owner_->counters_.force_models_written.fetch_add(1, std::memory_order_relaxed);
       return true;
     }
@@ -34,21 +57,22 @@ class ServerDds::Port : public SessionPort {
     return false;
   }
   void StartReceiving(Session* session) override {
-    condition_ = owner_->waitset_.AttachReader(pose_reader_.handle(), reinterpret_cast<dds_attach_t>(session));
+    condition_ = owner_->io_.AttachReader(pose_reader_.handle(), reinterpret_cast<dds_attach_t>(session));
   }
   void StopReceiving() override { condition_.Reset(); }  // deleting the condition detaches it
 
-  runtime::DdsReader<hapsim_dds_StylusPose>& pose_reader() { return pose_reader_; }
+  hapsim::dds::PoseReader& pose_reader() { return pose_reader_; }
 
  private:
   ServerDds* owner_;
-  runtime::DdsReader<hapsim_dds_StylusPose> pose_reader_;
-  runtime::DdsWriter<hapsim_dds_LocalForceModel> model_writer_;
-  runtime::DdsEntity condition_;
+  hapsim::dds::PoseReader pose_reader_;
+  hapsim::dds::ModelWriter model_writer_;
+  hapsim_dds_LocalForceModel wire_{};
+  hapsim::dds::Entity condition_;
 };
 
-ServerDds::ServerDds(const runtime::DdsOptions& options, PoseLimits limits)
-    : participant_(options), waitset_(participant_), limits_(limits) {}
+ServerDds::ServerDds(const hapsim::dds::Options& options, PoseLimits limits)
+    : participant_(options), limits_(limits), io_(participant_) {}
 
 ServerDds::~ServerDds() { Stop(); }
 
@@ -59,14 +83,13 @@ std::shared_ptr<SessionPort> ServerDds::Open(const std::string& session_id) {
 void ServerDds::Start(SessionRegistry* registry, TickPool* pool) {
   registry_ = registry;
   pool_ = pool;
-  stop_ = false;
-  thread_ = std::thread([this] { Run(); });
+  // Every wake refreshes the table first: it holds the sessions it names
+  // alive for the pass.
+  io_.Start({[this] { RefreshIndex(); }, [this](dds_attach_t tag) { OnReader(tag); }});
 }
 
 void ServerDds::Stop() {
-  stop_ = true;
-  waitset_.Wake();
-  if (thread_.joinable()) thread_.join();
+  io_.Stop();
   table_.reset();
   index_.clear();
 }
@@ -80,21 +103,13 @@ void ServerDds::RefreshIndex() {
   std::sort(index_.begin(), index_.end());
 }
 
-void ServerDds::Run() {
-  std::array<dds_attach_t, 64> tags;
-  while (!stop_.load()) {
-    const std::size_t n = waitset_.Wait(kWaitTimeoutNs, tags);
-    RefreshIndex();  // holds the table: the sessions it names stay alive this pass
-    for (std::size_t i = 0; i < n; ++i) {
-      if (tags[i] == runtime::DdsWaitSet::kGuardTag) continue;
-      auto* session = reinterpret_cast<Session*>(tags[i]);
-      // A tag is trusted only if the session is in the table we hold (a
-      // closing session is removed from the table before its reader is
-      // detached, a new one attached after it is published).
-      if (!std::binary_search(index_.begin(), index_.end(), session)) continue;
-      RoutePoses(*session, static_cast<Port&>(session->port()));
-    }
-  }
+void ServerDds::OnReader(dds_attach_t tag) {
+  auto* session = reinterpret_cast<Session*>(tag);
+  // A tag is trusted only if the session is in the table we hold (a closing
+  // session is removed from the table before its reader is detached, a new
+  // one attached after it is published).
+  if (!std::binary_search(index_.begin(), index_.end(), session)) return;
+  RoutePoses(*session, static_cast<Port&>(session->port()));
 }
 
 bool ServerDds::WarningDue(std::int64_t now_ns) {
@@ -108,7 +123,7 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
   for (;;) {
     const std::size_t n = port.pose_reader().Take(batch);
     if (n == 0) return;
-    const std::int64_t now = runtime::SteadyNowNs();
+    const std::int64_t now = common::SteadyNowNs();
     bool offered = false;
     for (std::size_t i = 0; i < n; ++i) {
       const auto& sample = batch[i];

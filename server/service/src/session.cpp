@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
-#include "hapsim/runtime/clock.h"
-#include "hapsim/service/viewer_link.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::service {
 
@@ -47,7 +45,6 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
   }
   ticks_per_frame_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(1.0 / (config_.frame_rate_hz * config_.tick_period_s))));
-  std::strncpy(force_model_.session, config_.id.c_str(), sizeof force_model_.session - 1);
   PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
 }
 
@@ -127,23 +124,14 @@ void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_
 }
 
 void Session::PublishForceModel(const TickInput& in) {
-  hapsim_dds_LocalForceModel& m = force_model_;
+  ForceModelMessage& m = force_message_;
   m.device_id = in.device_id;
   m.seq = force_seq_++;
   m.echo_pose_seq = in.pose_seq;
   // Paused: the tissue is frozen, so the device gets no force (safe default).
-  const core::LocalForceModel model = in.paused ? core::LocalForceModel{} : scene_->ForceModel();
-  const Eigen::Vector3d f = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
-  m.state = static_cast<std::uint8_t>(model.state);
-  for (int i = 0; i < 3; ++i) {
-    m.anchor_m[i] = model.anchor_W_m[i];
-    m.normal[i] = model.normal_W[i];
-    m.feedforward_n[i] = model.feedforward_W_N[i];
-    m.tool_force_n[i] = f[i];
-  }
-  m.stiffness_n_per_m = model.stiffness_N_per_m;
-  m.damping_ns_per_m = model.damping_Ns_per_m;
-  m.t_server_ns = runtime::SteadyNowNs();
+  m.model = in.paused ? core::LocalForceModel{} : scene_->ForceModel();
+  m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
+  m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).
   if (port_->WriteForceModel(m)) counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
 }
@@ -181,33 +169,6 @@ void Session::PublishSnapshot(const TickInput& in) {
   s->recent_events.assign(events.begin() + static_cast<std::ptrdiff_t>(first), events.end());
   s->events_total = scene_->EventsTotal();
   snapshot_outbox_.Publish(std::move(s));
-}
-
-void Session::AddViewer(std::shared_ptr<ViewerLink> link) {
-  std::lock_guard lock(viewers_mutex_);
-  viewers_.push_back(std::move(link));
-  counters_.viewers.store(static_cast<std::uint32_t>(viewers_.size()));
-}
-
-void Session::RemoveViewer(const ViewerLink* link) {
-  std::lock_guard lock(viewers_mutex_);
-  std::erase_if(viewers_, [link](const auto& v) { return v.get() == link; });
-  counters_.viewers.store(static_cast<std::uint32_t>(viewers_.size()));
-}
-
-std::vector<std::shared_ptr<ViewerLink>> Session::Viewers() const {
-  std::lock_guard lock(viewers_mutex_);
-  return viewers_;
-}
-
-void Session::SetLatestSnapshot(std::shared_ptr<const SceneSnapshot> s) {
-  std::lock_guard lock(snapshot_mutex_);
-  latest_snapshot_ = std::move(s);
-}
-
-std::shared_ptr<const SceneSnapshot> Session::LatestSnapshot() const {
-  std::lock_guard lock(snapshot_mutex_);
-  return latest_snapshot_;
 }
 
 }  // namespace hapsim::service

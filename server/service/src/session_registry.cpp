@@ -4,15 +4,15 @@
 
 #include <spdlog/spdlog.h>
 
-#include "hapsim/runtime/clock.h"
-#include "hapsim/runtime/session_id.h"
+#include "hapsim/common/clock.h"
+#include "hapsim/common/session_id.h"
 #include "hapsim/service/scene_builder.h"
-#include "hapsim/service/viewer_link.h"
 
 namespace hapsim::service {
 
-SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport)
-    : defaults_(defaults), pool_(pool), transport_(transport) {}
+SessionRegistry::SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport,
+                                 SessionListener* listener)
+    : defaults_(defaults), pool_(pool), transport_(transport), listener_(listener) {}
 
 SessionRegistry::~SessionRegistry() { CloseAll(); }
 
@@ -35,7 +35,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
         id = "session-" + std::to_string(next_generated_id_++);
       } while (sessions_.count(id) || reserved_.count(id));
     }
-    if (!runtime::IsValidSessionId(id)) {
+    if (!common::IsValidSessionId(id)) {
       throw ServiceError(ErrorCode::kInvalidArgument,
                          "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
     }
@@ -80,7 +80,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     PublishTableLocked();
   }
   session->port().StartReceiving(session.get());
-  pool_->Add(session.get(), runtime::SteadyNowNs());
+  pool_->Add(session.get(), common::SteadyNowNs());
   spdlog::info("session '{}' created: scene {}", id, session->config().scene);
   return session;
 }
@@ -97,13 +97,11 @@ std::shared_ptr<Session> SessionRegistry::FindOrThrow(std::string_view id) const
   return s;
 }
 
-namespace {
-void Shut(TickPool& pool, Session& s, const grpc::Status& why) {
+void SessionRegistry::Shut(Session& s, CloseReason why) {
   s.port().StopReceiving();
-  pool.Remove(&s);  // waits for a running tick; no tick after this
-  for (const auto& v : s.Viewers()) v->Close(why);
+  pool_->Remove(&s);  // waits for a running tick; no tick after this
+  if (listener_) listener_->OnSessionClosed(s, why);
 }
-}  // namespace
 
 void SessionRegistry::Close(std::string_view id) {
   std::shared_ptr<Session> s;
@@ -115,7 +113,7 @@ void SessionRegistry::Close(std::string_view id) {
     sessions_.erase(it);
     PublishTableLocked();
   }
-  Shut(*pool_, *s, grpc::Status(grpc::StatusCode::NOT_FOUND, "session '" + s->id() + "' was closed"));
+  Shut(*s, CloseReason::kClosed);
   spdlog::info("session '{}' closed after {} ticks", s->id(), s->counters().ticks.load());
 }
 
@@ -126,7 +124,7 @@ void SessionRegistry::CloseAll() {
     all.swap(sessions_);
     PublishTableLocked();
   }
-  for (auto& [id, s] : all) Shut(*pool_, *s, grpc::Status(grpc::StatusCode::UNAVAILABLE, "server shutting down"));
+  for (auto& [id, s] : all) Shut(*s, CloseReason::kServerStopping);
 }
 
 std::vector<std::shared_ptr<Session>> SessionRegistry::List() const {

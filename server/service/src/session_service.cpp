@@ -149,7 +149,7 @@ Status SessionServiceImpl::GetSnapshot(grpc::ServerContext*, const hapsim::v1::S
                                        hapsim::v1::MeshSnapshot* out) {
   return Guarded("GetSnapshot", [&] {
     auto s = registry_->FindOrThrow(req->session_id());
-    const auto snap = s->LatestSnapshot();
+    const auto snap = hub_->LatestSnapshot(*s);
     if (!snap) throw ServiceError(ErrorCode::kFailedPrecondition, "session has no snapshot yet; retry shortly");
     out->set_session_id(s->id());
     out->set_sim_time_s(snap->sim_time_s);

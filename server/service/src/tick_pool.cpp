@@ -7,7 +7,7 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "hapsim/runtime/clock.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::service {
 
@@ -118,7 +118,7 @@ void TickPool::WorkerLoop() {
       ++stats_.wakeups;
       continue;
     }
-    const std::int64_t now_ns = runtime::SteadyNowNs();
+    const std::int64_t now_ns = common::SteadyNowNs();
     const Entry top = heap_.front();
     if (top.due_ns > now_ns + coalesce_ns_) {
       work_cv_.wait_until(lock, AtSteadyNs(top.due_ns));
@@ -134,7 +134,7 @@ void TickPool::WorkerLoop() {
     const bool more_due = !heap_.empty() && heap_.front().due_ns <= now_ns + coalesce_ns_;
     lock.unlock();
     if (more_due) work_cv_.notify_one();
-    const std::int64_t next_due_ns = task->RunTick(top.due_ns, runtime::SteadyNowNs());
+    const std::int64_t next_due_ns = task->RunTick(top.due_ns, common::SteadyNowNs());
     lock.lock();
     ++stats_.ticks;
     task->running_ = false;

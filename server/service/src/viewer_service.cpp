@@ -20,8 +20,8 @@ constexpr std::uint32_t kMaxAckWindow = 64;
 // for the whole stream; frames are written by the frame pump via the link.
 class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Frame>, public ViewerLink::Stream {
  public:
-  SubscribeReactor(SessionRegistry* registry, double quantum_m, std::string peer)
-      : registry_(registry), quantum_m_(quantum_m), peer_(std::move(peer)) {
+  SubscribeReactor(const SessionRegistry* registry, ViewerHub* hub, double quantum_m, std::string peer)
+      : registry_(registry), hub_(hub), quantum_m_(quantum_m), peer_(std::move(peer)) {
     StartRead(&incoming_);
   }
 
@@ -53,7 +53,7 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
   void OnDone() override {
     if (link_) {
       link_->Detach();
-      session_->RemoveViewer(link_.get());
+      hub_->Remove(*session_, link_.get());
       spdlog::info("viewer '{}' left session '{}' after {} frames, {} bytes", link_->name(), session_->id(),
                    link_->frames_sent(), link_->bytes_sent());
     }
@@ -87,13 +87,14 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
       std::lock_guard lock(link_mutex_);
       link_ = link;
     }
-    session_->AddViewer(link_);
+    hub_->Add(session_, link_);
     spdlog::info("viewer '{}' subscribed to session '{}' (ack window {})", link_->name(), session_->id(),
                  req.ack_window());
     return grpc::Status::OK;
   }
 
-  SessionRegistry* registry_;
+  const SessionRegistry* registry_;
+  ViewerHub* hub_;
   double quantum_m_;
   std::string peer_;
   ViewerMessage incoming_;
@@ -105,7 +106,7 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
 }  // namespace
 
 grpc::ServerBidiReactor<ViewerMessage, Frame>* ViewerServiceImpl::Subscribe(grpc::CallbackServerContext* context) {
-  return new SubscribeReactor(registry_, quantum_m_, context->peer());
+  return new SubscribeReactor(registry_, hub_, quantum_m_, context->peer());
 }
 
 }  // namespace hapsim::service

@@ -14,13 +14,13 @@ namespace hapsim::bridge {
 
 class BridgeDds {
  public:
-  BridgeDds(const runtime::DdsOptions& options, std::uint32_t device_id, std::string session);
+  BridgeDds(const dds::Options& options, std::uint32_t device_id, std::string session);
   void Start() { dds_.Start(); }
   void Stop() { dds_.Stop(); }
   void Wake() { dds_.Wake(); }
 
-  runtime::LatestValue<hapsim_dds_StylusPose>& pose_outbox() { return pose_outbox_; }
-  runtime::LatestValue<ReceivedModel>& model_inbox() { return router_.inbox(0); }
+  common::LatestValue<hapsim_dds_StylusPose>& pose_outbox() { return pose_outbox_; }
+  common::LatestValue<ReceivedModel>& model_inbox() { return router_.inbox(0); }
   std::uint64_t poses_written() const { return poses_written_.load(); }
   std::uint64_t models_for_others() const {
     return router_.models_for_unknown_devices() + router_.models_for_other_sessions();
@@ -33,7 +33,7 @@ class BridgeDds {
   void WriteNewestPose();
 
   ModelRouter router_;  // one device: this bridge's
-  runtime::LatestValue<hapsim_dds_StylusPose> pose_outbox_;
+  common::LatestValue<hapsim_dds_StylusPose> pose_outbox_;
   std::atomic<std::uint64_t> poses_written_{0};
   DeviceDds dds_;  // last: its thread uses the members above, so it stops first
 };

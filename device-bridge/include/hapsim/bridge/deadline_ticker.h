@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cstdint>
 
-#include "hapsim/runtime/stats.h"
+#include "hapsim/common/stats.h"
 
 namespace hapsim::bridge {
 
@@ -23,15 +23,15 @@ class DeadlineTicker {
   double ElapsedS() const;
   std::uint64_t wakes() const { return wakes_; }
   std::uint64_t reanchors() const { return reanchors_; }
-  runtime::Percentiles PeriodError() const { return period_error_s_.Summary(); }
-  runtime::Percentiles Lateness() const { return lateness_s_.Summary(); }
+  common::Percentiles PeriodError() const { return period_error_s_.Summary(); }
+  common::Percentiles Lateness() const { return lateness_s_.Summary(); }
 
  private:
   double period_s_;
   Clock::duration period_;
   Clock::time_point start_, next_, previous_wake_;
   std::uint64_t wakes_ = 0, reanchors_ = 0;
-  runtime::SampleWindow period_error_s_, lateness_s_;
+  common::SampleWindow period_error_s_, lateness_s_;
 };
 
 }  // namespace hapsim::bridge

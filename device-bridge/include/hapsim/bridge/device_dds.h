@@ -1,7 +1,7 @@
 // The DDS side of one device (hapsim-bridge) or of many (hapsim-load): one
 // participant and, per device, a StylusPose writer and a LocalForceModel
 // reader in the DDS partition of the device's session
-// (runtime::SessionPartition), so a device receives only its own session's
+// (dds::SessionPartition), so a device receives only its own session's
 // models and its poses reach only that session. An I/O thread sleeps on a
 // waitset; on every wake it runs the owner's hook, then routes the waiting
 // force models of the triggered readers, stamped with their arrival time on
@@ -9,15 +9,15 @@
 // fixed for the life of the endpoints (Cyclone cannot change a partition
 // after creation): to drive another session, make a new DeviceDds.
 #pragma once
-#include <atomic>
 #include <functional>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "hapsim/bridge/model_router.h"
-#include "hapsim/runtime/dds.h"
+#include "hapsim/dds/dds.h"
+#include "hapsim/dds/io_thread.h"
+#include "hapsim/dds/topics.h"
 
 namespace hapsim::bridge {
 
@@ -26,14 +26,14 @@ class DeviceDds {
   // One device per router slot (id router->first_device_id() + i, session
   // router->session(i)). on_wake runs on the I/O thread at every wake
   // (Wake(), a model, or 5 ms).
-  DeviceDds(const runtime::DdsOptions& options, ModelRouter* router, std::function<void()> on_wake = {});
+  DeviceDds(const hapsim::dds::Options& options, ModelRouter* router, std::function<void()> on_wake = {});
   ~DeviceDds();
   DeviceDds(const DeviceDds&) = delete;
   DeviceDds& operator=(const DeviceDds&) = delete;
 
   void Start();
   void Stop();
-  void Wake() { waitset_.Wake(); }  // thread-safe, cheap
+  void Wake() { io_.Wake(); }  // thread-safe, cheap
 
   // Writes on the writer of the pose's device (by pose.device_id). False
   // when DDS refused the sample or the device is not ours. hapsim-bridge
@@ -49,20 +49,18 @@ class DeviceDds {
 
  private:
   struct Endpoints {
-    Endpoints(const runtime::DdsParticipant& p, const std::string& partition);
-    runtime::DdsWriter<hapsim_dds_StylusPose> pose_writer;
-    runtime::DdsReader<hapsim_dds_LocalForceModel> model_reader;
-    runtime::DdsEntity read_condition;
+    Endpoints(const hapsim::dds::Participant& p, const std::string& partition);
+    hapsim::dds::PoseWriter pose_writer;
+    hapsim::dds::ModelReader model_reader;
+    hapsim::dds::Entity read_condition;
   };
-  void Run();
+  void OnReader(dds_attach_t tag);
 
-  runtime::DdsParticipant participant_;
-  runtime::DdsWaitSet waitset_;
+  hapsim::dds::Participant participant_;
   ModelRouter* router_;
-  std::vector<std::unique_ptr<Endpoints>> devices_;  // one per router slot
   std::function<void()> on_wake_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  hapsim::dds::IoThread io_;
+  std::vector<std::unique_ptr<Endpoints>> devices_;  // one per router slot; detached before io_ goes
 };
 
 }  // namespace hapsim::bridge

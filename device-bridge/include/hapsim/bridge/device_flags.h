@@ -7,8 +7,8 @@
 
 #include "backends/synthetic_device.h"
 #include "hapsim/bridge/force_safety.h"
-#include "hapsim/runtime/dds.h"
-#include "hapsim/runtime/flags.h"
+#include "hapsim/dds/dds.h"
+#include "hapsim/common/flags.h"
 
 namespace hapsim::bridge {
 
@@ -19,27 +19,27 @@ struct ScriptFlags {
   int seed = 1;
   SyntheticScript ToScript() const;
 };
-void AddScriptFlags(runtime::Flags& flags, ScriptFlags* script, const std::string& seed_help);
+void AddScriptFlags(common::Flags& flags, ScriptFlags* script, const std::string& seed_help);
 
 struct SafetyFlags {
   double max_force_N = 2.5, max_rise_N_per_s = 50.0;
   double warn_ms = 20.0, fade_ms = 50.0, disarm_ms = 100.0;
   SafetyConfig ToConfig() const;  // throws std::invalid_argument when the limits are not ordered/positive
 };
-void AddSafetyFlags(runtime::Flags& flags, SafetyFlags* safety);
+void AddSafetyFlags(common::Flags& flags, SafetyFlags* safety);
 
 struct ProcessFlags {
   int dds_domain = 0;
   std::string dds_config;  // empty: CYCLONEDDS_URI if set, else the built-in loopback config
   std::string log_level = "info";
-  runtime::DdsOptions Dds() const { return {static_cast<std::uint32_t>(dds_domain), dds_config}; }
+  dds::Options Dds() const { return {static_cast<std::uint32_t>(dds_domain), dds_config}; }
 };
-void AddProcessFlags(runtime::Flags& flags, ProcessFlags* process);
+void AddProcessFlags(common::Flags& flags, ProcessFlags* process);
 
 // Parses argv into flags, checks the DDS domain and sets up logging under
 // log_name. Returns -1 to go on; otherwise main() returns the value: 0 after
 // printing --help, 2 after printing what was wrong as "<program>: ...".
-int ParseCommandLine(runtime::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
+int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
                      const char* log_name);
 
 }  // namespace hapsim::bridge

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "hapsim/bridge/force_safety.h"
-#include "hapsim/runtime/stats.h"
+#include "hapsim/common/stats.h"
 
 namespace hapsim::bridge {
 
@@ -19,8 +19,8 @@ struct LoadFlow {
   std::uint64_t models_received = 0;  // routed by the receive thread
   std::uint64_t models_used = 0;      // taken by the servo thread (newest per tick; older ones overwritten)
   std::uint64_t echo_regressions = 0;
-  runtime::Percentiles round_trip_s;  // pose sensed -> model echoing it received
-  runtime::Percentiles model_age_s;   // age of the model rendered, per tick
+  common::Percentiles round_trip_s;  // pose sensed -> model echoing it received
+  common::Percentiles model_age_s;   // age of the model rendered, per tick
   SafetyCounters safety;              // warnings/fades/disarms are events, clamps are ticks
 };
 
@@ -45,8 +45,8 @@ struct LoadTotals {
 struct ServoThreadReport {
   std::uint64_t ticks = 0;
   std::uint64_t reanchors = 0;     // stalls longer than 10 periods
-  runtime::Percentiles lateness_s; // wake behind its deadline
-  runtime::Percentiles work_s;     // stepping all devices in one tick
+  common::Percentiles lateness_s; // wake behind its deadline
+  common::Percentiles work_s;     // stepping all devices in one tick
 };
 
 // A session's counters as the server reports them (SessionService).

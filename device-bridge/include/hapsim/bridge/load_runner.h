@@ -53,7 +53,7 @@ class LoadRunner {
   std::vector<std::unique_ptr<SyntheticDevice>> devices_;
   std::vector<ServoChannel> channels_;
   std::vector<std::uint64_t> poses_sent_, write_failures_;
-  runtime::SampleWindow pooled_round_trip_s_, pooled_model_age_s_;
+  common::SampleWindow pooled_round_trip_s_, pooled_model_age_s_;
 };
 
 }  // namespace hapsim::bridge

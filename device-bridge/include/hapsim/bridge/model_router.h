@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "hapsim/bridge/servo_channel.h"
-#include "hapsim/runtime/dds.h"
+#include "hapsim/dds/dds.h"
 
 namespace hapsim::bridge {
 
@@ -29,7 +29,7 @@ class ModelRouter {
   std::size_t devices() const { return n_; }
   std::uint32_t first_device_id() const { return first_device_id_; }
   std::string session(std::size_t device) const { return slots_[device].session; }
-  runtime::LatestValue<ReceivedModel>& inbox(std::size_t device) { return slots_[device].inbox; }
+  common::LatestValue<ReceivedModel>& inbox(std::size_t device) { return slots_[device].inbox; }
   std::uint64_t models_routed(std::size_t device) const { return slots_[device].routed.load(std::memory_order_relaxed); }
   std::uint64_t models_for_unknown_devices() const { return unknown_device_.load(std::memory_order_relaxed); }
   std::uint64_t models_for_other_sessions() const { return other_session_.load(std::memory_order_relaxed); }
@@ -38,7 +38,7 @@ class ModelRouter {
   // One cache line apart, so the receive thread's writes to one device's
   // counter do not slow the servo thread's reads of a neighbour's inbox.
   struct alignas(64) Slot {
-    runtime::LatestValue<ReceivedModel> inbox;
+    common::LatestValue<ReceivedModel> inbox;
     std::atomic<std::uint64_t> routed{0};
     char session[sizeof(hapsim_dds_LocalForceModel::session)] = {};
   };
@@ -51,6 +51,6 @@ class ModelRouter {
 
 // Takes every force model waiting in reader, stamps the batch with one
 // arrival time and routes it. Returns how many were taken.
-std::size_t TakeAndRouteModels(runtime::DdsReader<hapsim_dds_LocalForceModel>& reader, ModelRouter& router);
+std::size_t TakeAndRouteModels(dds::Reader<hapsim_dds_LocalForceModel>& reader, ModelRouter& router);
 
 }  // namespace hapsim::bridge

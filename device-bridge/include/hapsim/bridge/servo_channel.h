@@ -14,8 +14,8 @@
 #include "hapsim/bridge/device.h"
 #include "hapsim/bridge/force_safety.h"
 #include "hapsim/core/haptics/local_force_model.h"
-#include "hapsim/runtime/latest_value.h"
-#include "hapsim/runtime/stats.h"
+#include "hapsim/common/latest_value.h"
+#include "hapsim/common/stats.h"
 #include "haptics.h"
 
 namespace hapsim::bridge {
@@ -62,7 +62,7 @@ class ServoChannel {
   // t_s: the device's time since its start (scripts and replays follow it).
   const DeviceReading& Sense(double t_s);
   const hapsim_dds_StylusPose& pose() const { return pose_; }
-  const ChannelTick& Actuate(runtime::LatestValue<ReceivedModel>& inbox);
+  const ChannelTick& Actuate(common::LatestValue<ReceivedModel>& inbox);
 
   const ChannelTick& last_tick() const { return tick_; }
   const ChannelCounters& counters() const { return counters_; }
@@ -70,11 +70,11 @@ class ServoChannel {
   WatchdogState watchdog() const { return safety_.state(); }
   std::uint8_t model_state() const { return have_model_ ? model_.msg.state : std::uint8_t{0}; }
   std::uint32_t device_id() const { return pose_.device_id; }
-  runtime::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
-  runtime::Percentiles ModelAge() const { return model_age_s_.Summary(); }
+  common::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
+  common::Percentiles ModelAge() const { return model_age_s_.Summary(); }
 
  private:
-  void TakeNewestModel(runtime::LatestValue<ReceivedModel>& inbox);
+  void TakeNewestModel(common::LatestValue<ReceivedModel>& inbox);
   void RecordPeaks();
 
   // Send time of each pose by seq; a model echoing a seq older than the ring
@@ -94,7 +94,7 @@ class ServoChannel {
   core::LocalForceModel local_;
   ChannelTick tick_;
   ChannelCounters counters_;
-  runtime::SampleWindow round_trip_s_, model_age_s_;
+  common::SampleWindow round_trip_s_, model_age_s_;
 };
 
 }  // namespace hapsim::bridge

@@ -40,9 +40,9 @@ struct TraceRow {
 
 struct ServoReport {
   double elapsed_s = 0.0;
-  runtime::Percentiles period_error_s;  // |actual period - nominal|
-  runtime::Percentiles model_age_s;     // age of the model used, per tick
-  runtime::Percentiles round_trip_s;    // pose sent -> model echoing it received
+  common::Percentiles period_error_s;  // |actual period - nominal|
+  common::Percentiles model_age_s;     // age of the model used, per tick
+  common::Percentiles round_trip_s;    // pose sent -> model echoing it received
   ChannelCounters channel;              // ticks, models taken, echoed seqs, force peaks
   SafetyCounters safety;
   WatchdogState final_watchdog = WatchdogState::kNoModel;
@@ -52,16 +52,16 @@ struct ServoReport {
 class ServoLoop {
  public:
   ServoLoop(HapticDevice* device, ServoConfig config,
-            runtime::LatestValue<hapsim_dds_StylusPose>* pose_out,
-            runtime::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io);
+            common::LatestValue<hapsim_dds_StylusPose>* pose_out,
+            common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io);
   // Runs on the calling thread until stop, run_seconds, or the script ends.
   ServoReport Run(const std::atomic<bool>& stop);
 
  private:
   HapticDevice* device_;
   ServoConfig config_;
-  runtime::LatestValue<hapsim_dds_StylusPose>* pose_out_;
-  runtime::LatestValue<ReceivedModel>* model_in_;
+  common::LatestValue<hapsim_dds_StylusPose>* pose_out_;
+  common::LatestValue<ReceivedModel>* model_in_;
   std::function<void()> wake_io_;
 };
 

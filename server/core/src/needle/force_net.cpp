@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "hapsim/core/integrators/msm_step.h"
+#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/msm_forces.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"

@@ -1,18 +1,19 @@
-// The frame pump: one thread that collects each session's newest snapshot and
-// offers it to that session's viewer streams (which send it or skip it; see
-// ViewerLink). It polls every poll_period; snapshots are produced by the
-// session ticks at the frame rate.
+// The frame pump: one thread that, every poll_period, has the ViewerHub take
+// each session's newest snapshot and offer it to that session's viewer
+// streams (which send it or skip it; see ViewerLink). Snapshots are produced
+// by the session ticks at the frame rate.
 #pragma once
 #include <atomic>
 #include <thread>
 
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/viewer_hub.h"
 
 namespace hapsim::service {
 
 class FramePump {
  public:
-  FramePump(SessionRegistry* registry, double poll_period_s = 0.002);
+  FramePump(const SessionRegistry* registry, ViewerHub* hub, double poll_period_s = 0.002);
   ~FramePump();
   void Start();
   void Stop();
@@ -20,7 +21,8 @@ class FramePump {
   void PumpOnce();
 
  private:
-  SessionRegistry* registry_;
+  const SessionRegistry* registry_;
+  ViewerHub* hub_;
   double poll_period_s_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

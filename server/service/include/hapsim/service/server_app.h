@@ -7,13 +7,14 @@
 
 #include <grpcpp/grpcpp.h>
 
-#include "hapsim/runtime/dds.h"
+#include "hapsim/dds/dds.h"
 #include "hapsim/service/frame_pump.h"
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/server_dds.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/session_service.h"
 #include "hapsim/service/tick_pool.h"
+#include "hapsim/service/viewer_hub.h"
 #include "hapsim/service/viewer_service.h"
 
 namespace hapsim::service {
@@ -24,7 +25,7 @@ struct ServerOptions {
   int workers = 0;  // tick pool threads; 0: the CPUs this process may use
   double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
-  runtime::DdsOptions dds;
+  hapsim::dds::Options dds;
   PoseLimits pose_limits;
 };
 
@@ -34,6 +35,7 @@ class ServerApp {
   ~ServerApp();
 
   SessionRegistry& registry() { return *registry_; }
+  const ViewerHub& viewers() const { return viewers_; }
   const ServerDds& dds() const { return *dds_; }
   const TickPool& pool() const { return *pool_; }
   int bound_port() const { return bound_port_; }
@@ -43,6 +45,7 @@ class ServerApp {
  private:
   std::unique_ptr<TickPool> pool_;  // declared first: destroyed after everything that wakes it
   std::unique_ptr<ServerDds> dds_;
+  ViewerHub viewers_;  // before the registry, which tells it of every close
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;
   ScoreBook scores_;

@@ -1,10 +1,10 @@
 // The server's DDS adapter. Every session has its own DDS partition
-// (runtime::SessionPartition(id)): a StylusPose reader and a LocalForceModel
+// (dds::SessionPartition(id)): a StylusPose reader and a LocalForceModel
 // writer created with the session and deleted with it, so each bridge
 // receives only its own session's models (no N² traffic) and a pose reaches
 // only the session whose partition it was published in.
 //
-// One I/O thread sleeps on a waitset to which each session's reader is
+// One I/O thread (dds::IoThread) waits on every session's pose reader, each
 // attached with the Session as its tag. On a wake it takes the triggered
 // readers' poses, checks them (FilterPose, the sample's session id against
 // the partition's, then the session's device ownership), puts the newest in
@@ -12,19 +12,19 @@
 // the device clocks its session. It checks tags against the registry's
 // copy-on-write table, never a lock that a control RPC holds. Force models
 // are written by the tick workers through the session's port (dds_write is
-// thread-safe), with no hand-off.
+// thread-safe), with no hand-off; the port packs the session's plain
+// ForceModelMessage into the wire struct (inbound, FilterPose unpacks).
 #pragma once
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <thread>
 #include <vector>
 
-#include "hapsim/runtime/dds.h"
+#include "hapsim/dds/dds.h"
+#include "hapsim/dds/io_thread.h"
 #include "hapsim/service/pose_filter.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/session_registry.h"
-#include "haptics.h"
 
 namespace hapsim::service {
 
@@ -39,7 +39,7 @@ struct ServerDdsCounters {
 
 class ServerDds : public SessionTransport {
  public:
-  ServerDds(const runtime::DdsOptions& options, PoseLimits limits);
+  ServerDds(const hapsim::dds::Options& options, PoseLimits limits);
   ~ServerDds() override;
 
   void Start(SessionRegistry* registry, TickPool* pool);
@@ -53,24 +53,22 @@ class ServerDds : public SessionTransport {
 
  private:
   class Port;
-  void Run();
   void RefreshIndex();
+  void OnReader(dds_attach_t tag);
   void RoutePoses(Session& session, Port& port);
   bool WarningDue(std::int64_t now_ns);  // rate-limits bad-input warnings (I/O thread)
 
-  runtime::DdsParticipant participant_;
-  runtime::DdsWaitSet waitset_;
+  hapsim::dds::Participant participant_;
   PoseLimits limits_;
   SessionRegistry* registry_ = nullptr;
   TickPool* pool_ = nullptr;
   ServerDdsCounters counters_;
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
   std::int64_t last_warning_ns_ = 0;
   // I/O thread only: the table the tags are checked against, and its
   // sessions sorted by address.
   std::shared_ptr<const SessionTable> table_;
   std::vector<Session*> index_;
+  hapsim::dds::IoThread io_;  // last: its thread uses the members above, so it stops first
 };
 
 }  // namespace hapsim::service

@@ -9,31 +9,31 @@
 // Threads:
 //   DDS thread    OfferPose()      -> pose mailbox, device ownership
 //   pool worker   RunTick()        (one at a time; never allocates)
-//   frame pump    TakeSnapshot()
-//   gRPC threads  RequestPause/Reset, counters, viewers
+//   frame pump    TakeSnapshot() (the ViewerHub fans snapshots out to viewers)
+//   gRPC threads  RequestPause/Reset, counters
+//
+// The session knows neither gRPC nor DDS: force models leave as plain
+// ForceModelMessages through its SessionPort (the DDS adapter packs them),
+// and viewers are the ViewerHub's business.
 #pragma once
 #include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/runtime/latest_value.h"
+#include "hapsim/common/latest_value.h"
 #include "hapsim/service/device_ownership.h"
 #include "hapsim/service/scene_snapshot.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/snapshot_ring.h"
 #include "hapsim/service/tick_input.h"
 #include "hapsim/service/tick_pool.h"
-#include "haptics.h"
 
 namespace hapsim::service {
-
-class ViewerLink;
 
 struct SessionConfig {
   std::string id;
@@ -73,7 +73,7 @@ struct SessionCounters {
   std::atomic<bool> device_streaming{false};
   std::atomic<double> sim_time_s{0.0};
   std::atomic<double> peak_tool_force_N{0.0};
-  std::atomic<std::uint32_t> viewers{0};
+  std::atomic<std::uint32_t> viewers{0};               // kept by the ViewerHub
 };
 
 class Session : public TickTask {
@@ -117,15 +117,6 @@ class Session : public TickTask {
   void RequestPause(bool pause) { paused_.store(pause); }
   void RequestReset() { reset_requests_.fetch_add(1); }
 
-  // Viewer streams of this session (frame pump and gRPC threads).
-  void AddViewer(std::shared_ptr<ViewerLink> link);
-  void RemoveViewer(const ViewerLink* link);
-  std::vector<std::shared_ptr<ViewerLink>> Viewers() const;
-
-  // The newest snapshot the frame pump has seen (for GetSnapshot).
-  void SetLatestSnapshot(std::shared_ptr<const SceneSnapshot> s);
-  std::shared_ptr<const SceneSnapshot> LatestSnapshot() const;
-
  private:
   TickInput AssembleInput(std::int64_t now_ns);
   std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
@@ -145,8 +136,8 @@ class Session : public TickTask {
   // DDS thread state.
   DeviceOwnership ownership_;
 
-  runtime::LatestValue<PoseSample> pose_inbox_;
-  runtime::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
+  common::LatestValue<PoseSample> pose_inbox_;
+  common::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
   std::atomic<bool> paused_{false};
   std::atomic<std::uint32_t> reset_requests_{0};
   std::atomic<std::int64_t> last_tick_start_ns_{0};  // written by the tick, read by the DDS thread
@@ -159,17 +150,12 @@ class Session : public TickTask {
   std::uint64_t snapshot_id_ = 0;
   std::uint32_t resets_seen_ = 0;
   std::uint64_t ticks_per_frame_ = 16;
-  hapsim_dds_LocalForceModel force_model_{};
+  ForceModelMessage force_message_;
   SnapshotRing snapshots_;
   std::shared_ptr<const std::vector<std::uint32_t>> triangles_;
   std::shared_ptr<const std::vector<core::SurfacePart>> parts_;
   std::shared_ptr<const std::vector<std::string>> layer_names_;
   std::uint64_t shared_topology_version_ = ~0ull;
-
-  mutable std::mutex viewers_mutex_;
-  std::vector<std::shared_ptr<ViewerLink>> viewers_;
-  mutable std::mutex snapshot_mutex_;
-  std::shared_ptr<const SceneSnapshot> latest_snapshot_;
 };
 
 }  // namespace hapsim::service

@@ -6,7 +6,9 @@
 // Create reserves the id under that mutex, builds the scene with no lock held
 // (on a low-priority thread, so a slow build yields the CPU to ticks), then
 // publishes a new table, lets poses reach the session (its port) and hands
-// it to the tick pool. Close undoes these in reverse order.
+// it to the tick pool. Close undoes these in reverse order, then tells the
+// listener (the ViewerHub, which ends the session's viewer streams). The
+// registry knows no wire format: bad requests are ServiceErrors.
 #pragma once
 #include <cstddef>
 #include <map>
@@ -17,7 +19,7 @@
 #include <string_view>
 #include <vector>
 
-#include "hapsim/runtime/shared_snapshot.h"
+#include "hapsim/common/shared_snapshot.h"
 #include "hapsim/service/errors.h"
 #include "hapsim/service/session.h"
 #include "hapsim/service/tick_pool.h"
@@ -35,11 +37,21 @@ struct SessionDefaults {
 // An immutable view of the sessions at one instant, sorted by id.
 using SessionTable = std::map<std::string, std::shared_ptr<Session>, std::less<>>;
 
+enum class CloseReason { kClosed, kServerStopping };
+
+// Told when a session has stopped (no tick runs, no pose arrives any more).
+class SessionListener {
+ public:
+  virtual ~SessionListener() = default;
+  virtual void OnSessionClosed(Session& session, CloseReason why) = 0;
+};
+
 class SessionRegistry {
  public:
   // pool runs the ticks; transport opens each session's port (its DDS
-  // partition's endpoints).
-  SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport);
+  // partition's endpoints); listener (may be null) hears of every close.
+  SessionRegistry(SessionDefaults defaults, TickPool* pool, SessionTransport* transport,
+                  SessionListener* listener = nullptr);
   ~SessionRegistry();
 
   // Builds a session and starts its ticks. Throws ServiceError:
@@ -49,7 +61,7 @@ class SessionRegistry {
                                   std::map<std::string, double> params);
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
-  // Stops the session's ticks and ends its viewer streams. Throws kNotFound.
+  // Stops the session's ticks and poses, then tells the listener. Throws kNotFound.
   void Close(std::string_view id);
   void CloseAll();
   std::vector<std::shared_ptr<Session>> List() const;  // sorted by id
@@ -58,16 +70,18 @@ class SessionRegistry {
 
  private:
   void PublishTableLocked();
+  void Shut(Session& session, CloseReason why);
   void ReleaseReservation(const std::string& id);  // a build failed
 
   SessionDefaults defaults_;
   TickPool* pool_;
   SessionTransport* transport_;
+  SessionListener* listener_;
   std::mutex mutex_;  // guards sessions_, reserved_, next_generated_id_; never taken by a tick or the DDS thread
   SessionTable sessions_;
   std::set<std::string, std::less<>> reserved_;  // ids being built
   std::uint64_t next_generated_id_ = 1;
-  runtime::SharedSnapshot<SessionTable> table_{std::make_shared<const SessionTable>()};
+  common::SharedSnapshot<SessionTable> table_{std::make_shared<const SessionTable>()};
 };
 
 }  // namespace hapsim::service

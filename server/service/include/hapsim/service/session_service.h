@@ -4,13 +4,15 @@
 #pragma once
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/viewer_hub.h"
 #include "hapsim/v1/session.grpc.pb.h"
 
 namespace hapsim::service {
 
 class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
  public:
-  SessionServiceImpl(SessionRegistry* registry, ScoreBook* scores) : registry_(registry), scores_(scores) {}
+  SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores)
+      : registry_(registry), hub_(hub), scores_(scores) {}
 
   grpc::Status ListScenes(grpc::ServerContext*, const hapsim::v1::ListScenesRequest*,
                           hapsim::v1::ListScenesResponse*) override;
@@ -31,6 +33,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
 
  private:
   SessionRegistry* registry_;
+  const ViewerHub* hub_;
   ScoreBook* scores_;
 };
 

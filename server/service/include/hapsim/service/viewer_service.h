@@ -3,19 +3,22 @@
 // flight. The first message names the session; the rest are acks.
 #pragma once
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/viewer_hub.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
 
 namespace hapsim::service {
 
 class ViewerServiceImpl final : public hapsim::v1::ViewerService::CallbackService {
  public:
-  ViewerServiceImpl(SessionRegistry* registry, double quantum_m) : registry_(registry), quantum_m_(quantum_m) {}
+  ViewerServiceImpl(const SessionRegistry* registry, ViewerHub* hub, double quantum_m)
+      : registry_(registry), hub_(hub), quantum_m_(quantum_m) {}
 
   grpc::ServerBidiReactor<hapsim::v1::ViewerMessage, hapsim::v1::Frame>* Subscribe(
       grpc::CallbackServerContext* context) override;
 
  private:
-  SessionRegistry* registry_;
+  const SessionRegistry* registry_;
+  ViewerHub* hub_;
   double quantum_m_;
 };
 

@@ -1,0 +1,274 @@
+// acupuncture scene: insertion state machine, forces and the local force
+// model. Display mesh updates live in acupuncture_display.cpp.
+#include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "hapsim/core/scenes/acupuncture/acupuncture_body.h"
+#include "hapsim/core/scenes/scene_builders.h"
+#include "hapsim/core/shape_matching/shape_matching.h"
+
+namespace hapsim::core {
+
+namespace {
+
+ForceNetDef NetDef(const AcupunctureParams& p, const TissueLayer& layer) {
+  ForceNetDef d = ForceNetDefFor(layer);
+  d.tension_ratio = p.net_tension_ratio;
+  d.threshold_ratio = p.ring_w_threshold_ratio;
+  return d;
+}
+
+constexpr int kMaxTransitionsPerTick = 8;  // bounds event spam from a pathological pose
+constexpr double kNeedleRestHeight_m = 0.05;  // initial needle: tip this far above the skin, pointing down
+
+}  // namespace
+
+AcupunctureScene::AcupunctureScene(const AcupunctureParams& params)
+    : params_(params),
+      body_(MakeAcupunctureBody(params.layers, params.shf_lmax, params.shf_samples)),
+      depth_m_(Eigen::VectorXd::Zero(kNumTissueLayers + 1)),
+      events_(256) {
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    nets_[i] = BuildForceNet(NetDef(params_, params_.layers[i]));
+    net_states_[i] = MakeForceNetState(nets_[i]);
+    eta_[i] = Eigen::VectorXd::Zero(nets_[i].topology.NumNodes());
+    unit_mass_[i] = Eigen::VectorXd::Ones(nets_[i].topology.NumNodes());
+    status_.layer_names.push_back(params_.layers[i].name);
+  }
+  BuildDisplay();
+  ResetState();
+}
+
+void AcupunctureScene::ResetState() {
+  pressing_ = false;
+  punctured_ = 0;
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    PlaceForceNet(nets_[i], Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), net_states_[i]);
+    eta_[i].setZero();
+    HideNet(static_cast<int>(i));
+    springing_back_[i] = punctured_once_[i] = false;
+    puncture_tip_W_m_[i].setZero();
+  }
+  entry_W_m_.setZero();
+  entry_axis_W_ = -Eigen::Vector3d::UnitZ();
+  depth_m_.setZero();
+  shaft_damping_Ns_per_m_ = 0.0;
+  t_s_ = 0.0;
+  force_W_N_.setZero();
+  force_model_ = LocalForceModel{};
+  status_.current_layer = -1;
+  status_.tip_depth_m = 0.0;
+  UpdateNeedleMesh(Eigen::Vector3d(0, 0, kNeedleRestHeight_m), -Eigen::Vector3d::UnitZ());
+}
+
+void AcupunctureScene::Reset() {
+  ResetState();
+  Log(SceneEventKind::kReset, -1, Eigen::Vector3d::Zero());
+  reset_epoch_ = ResetEpoch::Now(*this);
+}
+
+std::uint64_t AcupunctureScene::StateHash() const {
+  StateHasher h;
+  AddCommonSceneState(h, *this, reset_epoch_);
+  h.Add(pressing_).Add(punctured_).Add(entry_W_m_).Add(entry_axis_W_).Add(depth_m_).Add(shaft_damping_Ns_per_m_);
+  // Left out as pure functions of what is hashed: each net's rest lattice
+  // (placement n1_rest + normal) and the patch vertices' ring coordinates q.
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    const ForceNetState& s = net_states_[i];
+    h.Add(s.n1_rest_W_m).Add(s.normal_W).Add(s.x_W_m).Add(s.ring_Z_m).Add(s.anchored);
+    h.Add(eta_[i]).Add(net_shown_[i]).Add(net_moved_[i]).Add(springing_back_[i]);
+    h.Add(punctured_once_[i]).Add(puncture_tip_W_m_[i]);
+    // Displayed patch: only the vertices near a placed net ever leave rest.
+    h.Add(patch_near_net_[i].size()).Add(patch_near_net_[i]);
+    for (const std::int32_t v : patch_near_net_[i]) h.AddBytes(vertices_m_.col(v).data(), 3 * sizeof(double));
+  }
+  const Eigen::Index needle_first = static_cast<Eigen::Index>(kNumTissueLayers) * patch_vertices_;
+  h.AddBytes(vertices_m_.col(needle_first).data(),
+             3 * sizeof(double) * static_cast<std::size_t>(vertices_m_.cols() - needle_first));
+  return h.Value();
+}
+
+void AcupunctureScene::NumericalReset() {
+  ++status_.numerical_resets;
+  const double t = t_s_;
+  ResetState();
+  t_s_ = t;
+  Log(SceneEventKind::kReset, -1, Eigen::Vector3d::Zero());
+}
+
+void AcupunctureScene::Log(SceneEventKind kind, int layer, const Eigen::Vector3d& where) {
+  events_.Push({t_s_, kind, layer, where});
+}
+
+std::optional<double> AcupunctureScene::PuncturePointOffset_m(int layer) const {
+  const auto i = static_cast<std::size_t>(layer);
+  if (layer < 0 || layer >= kNumTissueLayers || !punctured_once_[i]) return std::nullopt;
+  const ForceNetState& s = net_states_[i];
+  return (s.x_W_m.col(0) - puncture_tip_W_m_[i]).dot(s.normal_W);
+}
+
+void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
+  if (std::isfinite(dt_s) && dt_s > 0.0) t_s_ += dt_s;
+  const bool tool_ok = tool.valid && tool.tip_W_m.allFinite() && tool.orientation_W.coeffs().allFinite() &&
+                       tool.orientation_W.norm() > 0.0 && tool.velocity_W_m_per_s.allFinite();
+  if (!tool_ok) {
+    // No (usable) tool: the needle is out of the tissue.
+    if (pressing_ || punctured_ > 0) {
+      const Eigen::Vector3d where = tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero();
+      Log(SceneEventKind::kContactEnd, status_.current_layer, where);
+    }
+    if (pressing_) HideNet(punctured_);  // an unpunctured dimple relaxes
+    pressing_ = false;
+    punctured_ = 0;
+    force_W_N_.setZero();
+    force_model_ = LocalForceModel{};
+    status_.current_layer = -1;
+    status_.tip_depth_m = 0.0;
+  } else {
+    const Eigen::Vector3d tip = tool.tip_W_m;
+    const Eigen::Vector3d axis = (tool.orientation_W.normalized() * Eigen::Vector3d(0, 0, -1)).normalized();
+    body_.Depths_m(tip, depth_m_);
+    UpdateInsertion(tip, axis);
+    ComputeForce(tip, tool.velocity_W_m_per_s);
+    ComputeForceModel(tip, tool.velocity_W_m_per_s);
+    status_.current_layer = pressing_ ? punctured_ : punctured_ - 1;
+    status_.tip_depth_m = std::max(0.0, depth_m_[0]);
+    UpdateNeedleMesh(tip, axis);
+  }
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
+    if (!springing_back_[i]) continue;
+    // Once η is 0 everywhere, this step puts every particle on its goal, a
+    // fixed point of shape matching: the springback is over.
+    if (eta_[i].maxCoeff() == 0.0) springing_back_[i] = false;
+    SpringbackStep(net_states_[i].rest_W_m, unit_mass_[i], params_.springback_eta_rate_per_step,
+                   net_states_[i].x_W_m, eta_[i]);
+    UpdateRingDeflections(nets_[i], net_states_[i]);
+    net_moved_[i] = true;
+  }
+  // Blow-up guard: anything non-finite in what we publish resets the scene.
+  bool finite = force_W_N_.allFinite();
+  for (std::size_t i = 0; i < kNumTissueLayers; ++i) finite = finite && net_states_[i].ring_Z_m.allFinite();
+  if (!finite) {
+    NumericalReset();
+    return;
+  }
+  UpdatePatches();
+}
+
+void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis) {
+  for (int guard = 0; guard < kMaxTransitionsPerTick; ++guard) {
+    const int layer = punctured_;
+    if (pressing_) {
+      ForceNetState& s = net_states_[static_cast<std::size_t>(layer)];
+      const double z1_m = (s.n1_rest_W_m - tip).dot(s.normal_W);
+      if (z1_m < 0.0) {  // tip lifted off the surface
+        pressing_ = false;
+        HideNet(layer);
+        Log(SceneEventKind::kContactEnd, layer, tip);
+        continue;
+      }
+      SolveForceNet(nets_[static_cast<std::size_t>(layer)], tip, s);
+      net_moved_[static_cast<std::size_t>(layer)] = true;
+      if (DeformationReachedRingW(nets_[static_cast<std::size_t>(layer)], s)) {
+        Puncture(layer, tip, axis);
+        continue;
+      }
+      return;
+    }
+    if (layer < kNumTissueLayers && depth_m_[layer] >= 0.0) {
+      StartContact(layer, tip);
+      continue;
+    }
+    if (layer > 0 && depth_m_[layer - 1] < 0.0) {  // withdrawn above the top of the layer it was in
+      --punctured_;
+      if (punctured_ == 0) Log(SceneEventKind::kContactEnd, 0, tip);
+      continue;
+    }
+    return;
+  }
+}
+
+void AcupunctureScene::StartContact(int layer, const Eigen::Vector3d& tip) {
+  const auto i = static_cast<std::size_t>(layer);
+  const Eigen::Vector3d dir = tip - body_.Def().center_W_m;
+  const Eigen::Vector3d n1 = body_.SurfacePoint_W_m(layer, dir);
+  HideNet(layer);
+  PlaceForceNet(nets_[i], n1, body_.OutwardNormal_W(layer, dir), net_states_[i]);
+  springing_back_[i] = false;
+  punctured_once_[i] = false;
+  ShowNet(layer);
+  pressing_ = true;
+  Log(SceneEventKind::kContactBegin, layer, n1);
+}
+
+void AcupunctureScene::Puncture(int layer, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis) {
+  const auto i = static_cast<std::size_t>(layer);
+  Log(SceneEventKind::kPuncture, layer, tip);
+  net_states_[i].anchored = false;  // virtual springs removed at puncture
+  eta_[i].setConstant(params_.springback_eta0);
+  springing_back_[i] = true;
+  punctured_once_[i] = true;
+  puncture_tip_W_m_[i] = tip;
+  if (layer == 0) {
+    entry_W_m_ = tip;
+    entry_axis_W_ = axis;
+  }
+  pressing_ = false;
+  punctured_ = layer + 1;
+}
+
+void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) {
+  force_W_N_.setZero();
+  if (pressing_) {
+    const auto i = static_cast<std::size_t>(punctured_);
+    force_W_N_ += NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+  }
+  shaft_damping_Ns_per_m_ = ::hapsim::core::ShaftDamping_Ns_per_m(params_.layers, depth_m_.data(), punctured_);
+  if (punctured_ > 0) {
+    const Eigen::Vector3d& a = entry_axis_W_;
+    const Eigen::Vector3d r = tip - entry_W_m_;
+    force_W_N_ -= shaft_damping_Ns_per_m_ * v.dot(a) * a;                         // Table 1
+    force_W_N_ -= params_.tunnel_stiffness_N_per_m * (r - r.dot(a) * a);           // tunnel
+  }
+}
+
+void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) {
+  LocalForceModel m;
+  if (punctured_ > 0) {
+    m.state = ContactState::kPunctured;
+    m.anchor_W_m = entry_W_m_;
+    m.normal_W = -entry_axis_W_;  // out of the tissue
+    m.stiffness_N_per_m = params_.tunnel_stiffness_N_per_m;
+    m.damping_Ns_per_m = shaft_damping_Ns_per_m_;
+    if (pressing_) {  // a deeper surface pushes back: feed it forward
+      const auto i = static_cast<std::size_t>(punctured_);
+      m.feedforward_W_N = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+    }
+  } else if (pressing_) {
+    const ForceNetModel& net = nets_[0];
+    const Eigen::Vector3d& n = net_states_[0].normal_W;
+    m.state = ContactState::kContact;
+    m.normal_W = n;
+    m.stiffness_N_per_m =
+        std::min(net.def.virtual_K_N_per_m * net.influence_sum, params_.render_stiffness_max_N_per_m);
+    m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
+    const double fn_N = force_W_N_.dot(n);
+    // Penetration p with k p - b (v·n) = F·n, so the law gives F at this tip.
+    double p_m = (fn_N + m.damping_Ns_per_m * v.dot(n)) / m.stiffness_N_per_m;
+    if (p_m <= 0.0) {  // fast press: the damper alone would exceed F; drop it this tick
+      m.damping_Ns_per_m = 0.0;
+      p_m = std::max(0.0, fn_N) / m.stiffness_N_per_m;
+    }
+    m.anchor_W_m = tip + p_m * n;
+    m.feedforward_W_N = force_W_N_ - std::max(0.0, fn_N) * n;
+  }
+  force_model_ = m;
+}
+
+std::unique_ptr<Scene> MakeAcupunctureScene(const std::map<std::string, double>& params) {
+  return std::make_unique<AcupunctureScene>(ParseAcupunctureParams(params));
+}
+
+}  // namespace hapsim::core

@@ -1,0 +1,391 @@
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "hapsim/core/msm/stability.h"
+#include "hapsim/core/scenes/scene_builders.h"
+
+namespace hapsim::core {
+namespace {
+
+// Fraction of the critical step a scene may use: the Gershgorin bound is
+// conservative near rest, but stretched springs stiffen transversally.
+constexpr double kCriticalStepSafety = 0.9;
+// At most this many sub-steps per Step(): a huge dt (e.g. after a pause) is
+// truncated instead of stalling the tick.
+constexpr int kMaxSubsteps = 1000;
+static_assert(kMaxSubsteps * TissueBlockLimits::kMinDt_s >= 1e-3, "a 1 ms Step() must never be truncated");
+// The tick the cost limit is stated for [s] (the server's 1 kHz period).
+constexpr double kReferenceTick_s = 1e-3;
+// Tool speed used by the contact damper is clamped to this [m/s].
+constexpr double kMaxToolSpeed_m_per_s = 10.0;
+
+[[noreturn]] void Bad(const std::string& key, const std::string& why) {
+  throw std::invalid_argument("tissue_block: parameter '" + key + "' " + why);
+}
+
+double Positive(const std::string& key, double v) {
+  if (!(std::isfinite(v) && v > 0.0)) Bad(key, "must be finite and > 0, got " + std::to_string(v));
+  return v;
+}
+double NonNegative(const std::string& key, double v) {
+  if (!(std::isfinite(v) && v >= 0.0)) Bad(key, "must be finite and >= 0, got " + std::to_string(v));
+  return v;
+}
+
+// Cost of one node through one sub-step relative to symplectic Euler,
+// measured on the tissue grid (docs/scene-limits.md). Backward Euler: a
+// setup of ~4 plus ~1.1 per CG iteration, at the iteration cap.
+constexpr double kBackwardEulerCost = 4.0 + 1.1 * TissueBlockLimits::kMaxCgIterations;
+double IntegratorCost(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::kExplicitEuler: return 1.5;
+    case IntegratorKind::kSymplecticEuler: return 1.0;
+    case IntegratorKind::kImprovedEuler: return 1.5;
+    case IntegratorKind::kMidpointAveraging: return 2.5;
+    case IntegratorKind::kRk4: return 5.0;
+    case IntegratorKind::kBackwardEuler: return kBackwardEulerCost;
+  }
+  return kBackwardEulerCost;  // unreachable: the most expensive
+}
+// Local update: integrating through node/spring index lists costs ~15 % more
+// per node, and re-selecting a region ~8 node updates per region node (BFS,
+// sorts).
+constexpr double kLocalUpdateOverhead = 1.15;
+constexpr double kRegionSelectCostPerNode = 8.0;
+
+void CheckStepCost(const TissueBlockParams& p) {
+  const double cost = TissueBlockStepCost(p);
+  if (cost <= TissueBlockLimits::kMaxStepCost) return;
+  std::ostringstream msg;
+  msg << "tissue_block: parameters 'grid_nodes' = " << p.grid_nodes << ", 'dt_s' = " << p.dt_s
+      << " s, 'integrator' = " << ToString(p.integrator.kind) << " and 'local_update_hops' = " << p.local_update_hops
+      << " would cost about " << static_cast<long long>(cost) << " node updates per 1 ms step; the limit is "
+      << TissueBlockLimits::kMaxStepCost
+      << " (about 0.3 ms of CPU). Cost = grid_nodes^2 x ceil(0.001 s / dt_s) x integrator factor (explicit_euler "
+         "1.5, symplectic_euler 1, improved_euler 1.5, midpoint_averaging 2.5, rk4 5, backward_euler "
+      << kBackwardEulerCost << "), with "
+         "local_update_hops > 0 x 1.15 + 8 x min(grid_nodes^2, (2 local_update_hops + 1)^2). Use fewer grid_nodes, "
+         "a larger dt_s or a cheaper integrator (docs/scene-limits.md)";
+  throw std::invalid_argument(msg.str());
+}
+
+}  // namespace
+
+TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& params) {
+  TissueBlockParams p;
+  for (const auto& [key, v] : params) {
+    if (key == "grid_nodes") {
+      if (!(v >= 3 && v <= TissueBlockLimits::kMaxGridNodes && std::floor(v) == v))
+        Bad(key, "must be an integer in [3, " + std::to_string(TissueBlockLimits::kMaxGridNodes) + "]");
+      p.grid_nodes = static_cast<int>(v);
+    } else if (key == "size_m") {
+      p.size_m = Positive(key, v);
+    } else if (key == "spring_stiffness_N_per_m") {
+      p.spring_stiffness_N_per_m = NonNegative(key, v);
+    } else if (key == "shear_stiffness_N_per_m") {
+      p.shear_stiffness_N_per_m = NonNegative(key, v);
+    } else if (key == "spring_damping_Ns_per_m") {
+      p.spring_damping_Ns_per_m = NonNegative(key, v);
+    } else if (key == "anchor_stiffness_N_per_m") {
+      p.anchor_stiffness_N_per_m = Positive(key, v);
+    } else if (key == "damping_Ns_per_m") {
+      p.damping_Ns_per_m = NonNegative(key, v);
+    } else if (key == "node_mass_kg") {
+      p.node_mass_kg = Positive(key, v);
+    } else if (key == "prestretch") {
+      if (!(std::isfinite(v) && v >= 0.0 && v < 1.0)) Bad(key, "must be in [0, 1)");
+      p.prestretch = v;
+    } else if (key == "contact_stiffness_N_per_m") {
+      p.contact_stiffness_N_per_m = Positive(key, v);
+    } else if (key == "contact_damping_Ns_per_m") {
+      p.contact_damping_Ns_per_m = NonNegative(key, v);
+    } else if (key == "max_penetration_m") {
+      p.max_penetration_m = Positive(key, v);
+    } else if (key == "dt_s") {
+      if (!(std::isfinite(v) && v >= TissueBlockLimits::kMinDt_s))
+        Bad(key, "must be finite and >= 1e-06 s (at most 1000 sub-steps per 1 ms tick), got " + std::to_string(v));
+      p.dt_s = v;
+    } else if (key == "integrator") {
+      const auto kind = IntegratorFromCode(v);
+      if (!kind)
+        Bad(key, "must be an integrator code 0..5 (0 explicit_euler, 1 symplectic_euler, "
+                 "2 improved_euler, 3 midpoint_averaging, 4 rk4, 5 backward_euler)");
+      p.integrator.kind = *kind;
+    } else if (key == "local_update_hops") {
+      if (!(v >= 0 && v <= 1000 && std::floor(v) == v)) Bad(key, "must be an integer in [0, 1000]");
+      p.local_update_hops = static_cast<int>(v);
+    } else if (key == "max_kinetic_energy_J") {
+      p.max_kinetic_energy_J = Positive(key, v);
+    } else if (key == "midpoint_alpha") {
+      if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) Bad(key, "must be in (0, 1]");
+      p.integrator.alpha = v;
+    } else {
+      Bad(key, "is unknown (known: grid_nodes, size_m, spring_stiffness_N_per_m, "
+               "shear_stiffness_N_per_m, spring_damping_Ns_per_m, anchor_stiffness_N_per_m, "
+               "damping_Ns_per_m, node_mass_kg, prestretch, contact_stiffness_N_per_m, "
+               "contact_damping_Ns_per_m, max_penetration_m, dt_s, integrator, midpoint_alpha, "
+               "local_update_hops, max_kinetic_energy_J)");
+    }
+  }
+  CheckStepCost(p);
+  return p;
+}
+
+double TissueBlockStepCost(const TissueBlockParams& p) {
+  const double nodes = static_cast<double>(p.grid_nodes) * p.grid_nodes;
+  const double substeps = std::min<double>(kMaxSubsteps, std::ceil(kReferenceTick_s / p.dt_s));
+  const double integrate = nodes * substeps * IntegratorCost(p.integrator.kind);
+  if (p.local_update_hops == 0) return integrate;
+  const double side = 2.0 * p.local_update_hops + 1.0;  // shear springs: hops reach a square
+  return kLocalUpdateOverhead * integrate + kRegionSelectCostPerNode * std::min(nodes, side * side);
+}
+
+MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
+  const int n = p.grid_nodes;
+  const double spacing_m = p.size_m / (n - 1);
+  MsmDef d;
+  d.x0_m.resize(3, n * n);
+  d.fixed.assign(static_cast<std::size_t>(n * n), 0);
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      const int i = r * n + c;
+      d.x0_m.col(i) << -0.5 * p.size_m + c * spacing_m, -0.5 * p.size_m + r * spacing_m, 0.0;
+      d.fixed[static_cast<std::size_t>(i)] = (r == 0 || c == 0 || r == n - 1 || c == n - 1) ? 1 : 0;
+    }
+  }
+  d.mass_kg = Eigen::VectorXd::Constant(n * n, p.node_mass_kg);
+  d.node_damping_Ns_per_m = Eigen::VectorXd::Constant(n * n, p.damping_Ns_per_m);
+  const double shrink = 1.0 / (1.0 + p.prestretch);
+  auto add = [&](int i, int j, double k, double length_m) {
+    d.springs.push_back({i, j});
+    d.spring_rest_m.push_back(length_m * shrink);
+    d.spring_k_N_per_m.push_back(k);
+    d.spring_c_Ns_per_m.push_back(p.spring_damping_Ns_per_m);
+  };
+  // Spring order: row by row, and within a row in groups whose springs share
+  // no node (even/odd horizontals, verticals, both diagonals). Consecutive
+  // springs then never update the same node's force, so the scatter has no
+  // store-to-load chains, while each group stays within two grid rows
+  // (cache-local).
+  const double diagonal_m = spacing_m * std::sqrt(2.0);
+  for (int r = 0; r < n; ++r) {
+    for (int parity = 0; parity < 2; ++parity)
+      for (int c = parity; c + 1 < n; c += 2) add(r * n + c, r * n + c + 1, p.spring_stiffness_N_per_m, spacing_m);
+    if (r + 1 == n) break;
+    for (int c = 0; c < n; ++c) add(r * n + c, (r + 1) * n + c, p.spring_stiffness_N_per_m, spacing_m);
+    for (int c = 0; c + 1 < n; ++c) add(r * n + c, (r + 1) * n + c + 1, p.shear_stiffness_N_per_m, diagonal_m);
+    for (int c = 0; c + 1 < n; ++c) add(r * n + c + 1, (r + 1) * n + c, p.shear_stiffness_N_per_m, diagonal_m);
+  }
+  for (int i = 0; i < n * n; ++i) {
+    if (d.fixed[static_cast<std::size_t>(i)]) continue;
+    d.anchor_node.push_back(i);
+    d.anchor_k_N_per_m.push_back(p.anchor_stiffness_N_per_m);
+  }
+  d.anchor_point_W_m.resize(3, static_cast<Eigen::Index>(d.anchor_node.size()));
+  for (std::size_t a = 0; a < d.anchor_node.size(); ++a)
+    d.anchor_point_W_m.col(static_cast<Eigen::Index>(a)) = d.x0_m.col(d.anchor_node[a]);
+  d.max_kinetic_energy_J = p.max_kinetic_energy_J;
+  return d;
+}
+
+TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
+    : params_(params), spacing_m_(params.size_m / (params.grid_nodes - 1)) {
+  model_ = BuildMsmModel(MakeTissueGridDef(params_));
+  state_ = MakeMsmState(model_);
+  initial_state_ = state_;
+  workspace_ = MakeMsmWorkspace(model_);
+  workspace_.cg_max_iterations = TissueBlockLimits::kMaxCgIterations;  // bounded tick cost
+  region_ = MakeLocalRegion(model_);
+
+  // A contact node carries at most the full penalty spring-damper.
+  critical_dt_s_ = core::CriticalTimeStep_s(EstimateModeBounds(model_, params_.contact_stiffness_N_per_m,
+                                                               params_.contact_damping_Ns_per_m),
+                                            params_.integrator);
+  if (!(params_.dt_s <= kCriticalStepSafety * critical_dt_s_)) {
+    std::ostringstream msg;
+    msg << "tissue_block: parameter 'dt_s' = " << params_.dt_s << " s is unstable for integrator "
+        << ToString(params_.integrator.kind) << ": the critical step estimate is " << critical_dt_s_
+        << " s (use dt_s <= " << kCriticalStepSafety * critical_dt_s_
+        << ", a heavier node_mass_kg, lower stiffnesses, more damping, or integrator 5 = backward_euler)";
+    throw std::invalid_argument(msg.str());
+  }
+
+  const int n = params_.grid_nodes;
+  triangles_.reserve(static_cast<std::size_t>(6 * (n - 1) * (n - 1)));
+  for (int r = 0; r + 1 < n; ++r) {
+    for (int c = 0; c + 1 < n; ++c) {
+      const auto a = static_cast<std::uint32_t>(r * n + c), b = a + 1,
+                 d = a + static_cast<std::uint32_t>(n), e = d + 1;
+      triangles_.insert(triangles_.end(), {a, b, e, a, e, d});  // counter-clockwise seen from +z
+    }
+  }
+  parts_.push_back({"tissue", 0, static_cast<std::uint32_t>(triangles_.size() / 3)});
+  status_.layer_names = {"tissue"};
+}
+
+TissueBlockScene::Contact TissueBlockScene::FindContact(const ToolInput& tool) const {
+  Contact c;
+  const Eigen::Vector3d& tip = tool.tip_W_m;
+  if (!tool.valid || !tip.allFinite()) return c;
+  // Cell from the rest grid (lateral node motion under a press is small).
+  const int n = params_.grid_nodes;
+  const double u = (tip.x() + 0.5 * params_.size_m) / spacing_m_;
+  const double w = (tip.y() + 0.5 * params_.size_m) / spacing_m_;
+  if (!(u >= 0.0 && u <= n - 1 && w >= 0.0 && w <= n - 1)) return c;  // also rejects huge values
+  const int col = std::min(static_cast<int>(u), n - 2), row = std::min(static_cast<int>(w), n - 2);
+  const double fu = u - col, fw = w - row;
+  c.nodes = {NodeIndex(row, col), NodeIndex(row, col + 1), NodeIndex(row + 1, col),
+             NodeIndex(row + 1, col + 1)};
+  c.weights = {(1 - fu) * (1 - fw), fu * (1 - fw), (1 - fu) * fw, fu * fw};
+  double surface_z_m = 0.0, surface_vz_m_per_s = 0.0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    surface_z_m += c.weights[k] * state_.x_m(2, c.nodes[k]);
+    surface_vz_m_per_s += c.weights[k] * state_.v_m_per_s(2, c.nodes[k]);
+  }
+  const double penetration_m = surface_z_m - tip.z();
+  if (!(penetration_m > 0.0)) return c;
+  c.active = true;
+  c.penetration_m = std::min(penetration_m, params_.max_penetration_m);
+  // A hand moves well below 10 m/s; anything else is a bad device reading.
+  const double reported_vz = tool.velocity_W_m_per_s.z();
+  const double tip_vz_m_per_s = std::isfinite(reported_vz) ? std::clamp(reported_vz, -kMaxToolSpeed_m_per_s, kMaxToolSpeed_m_per_s) : 0.0;
+  // Clamped at 0: the damper never pulls the tool into the tissue.
+  c.push_N = std::max(0.0, params_.contact_stiffness_N_per_m * c.penetration_m +
+                               params_.contact_damping_Ns_per_m * (surface_vz_m_per_s - tip_vz_m_per_s));
+  return c;
+}
+
+void TissueBlockScene::ApplyContactForce(const Contact& c) {
+  for (const std::int32_t i : loaded_nodes_) state_.f_ext_N.col(i).setZero();
+  if (!c.active) return;
+  for (std::size_t k = 0; k < 4; ++k) state_.f_ext_N(2, c.nodes[k]) -= c.weights[k] * c.push_N;
+  loaded_nodes_ = c.nodes;
+}
+
+double TissueBlockScene::LocalSurfaceStiffness_N_per_m(const Contact& c) const {
+  // z-stiffness of each corner node (anchor + tangent stiffness of its
+  // springs projected on z), combined as independent springs loaded through
+  // the bilinear weights: compliance = sum w_a^2 / k_a. Ignores the coupling
+  // between the corners, so it overestimates the true surface stiffness.
+  double compliance_m_per_N = 0.0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::int32_t i = c.nodes[k];
+    double kz = model_.fixed[static_cast<std::size_t>(i)] ? std::numeric_limits<double>::infinity()
+                                                          : params_.anchor_stiffness_N_per_m;
+    const auto ui = static_cast<std::size_t>(i);
+    for (std::int32_t e = region_.adjacency_start[ui]; e < region_.adjacency_start[ui + 1] && std::isfinite(kz); ++e) {
+      const auto us = static_cast<std::size_t>(region_.node_springs[static_cast<std::size_t>(e)]);
+      const Eigen::Vector3d d = state_.x_m.col(model_.spring_j[us]) - state_.x_m.col(model_.spring_i[us]);
+      const double l = d.norm();
+      const double uz = d.z() / l;
+      const double geo = std::max(0.0, 1.0 - model_.spring_rest_m[us] / l);
+      kz += model_.spring_k_N_per_m[us] * (uz * uz + geo * (1.0 - uz * uz));
+    }
+    compliance_m_per_N += c.weights[k] * c.weights[k] / kz;
+  }
+  return compliance_m_per_N > 0.0 ? 1.0 / compliance_m_per_N : std::numeric_limits<double>::infinity();
+}
+
+void TissueBlockScene::UpdateOutputs(const ToolInput& tool, const Contact& c) {
+  const Eigen::Vector3d n_W = Eigen::Vector3d::UnitZ();
+  const double force_N = c.push_N;
+  // damping_Ns_per_m stays 0: force_N already contains the contact damper at
+  // this tick, and the bridge adds its own coupling damping.
+  tool_force_W_N_ = force_N * n_W;
+  force_model_ = LocalForceModel{};
+  if (c.active) {
+    // Tip and tissue are springs in series: k = (1/k_c + 1/k_surface)^-1.
+    const double k_eff = 1.0 / (1.0 / params_.contact_stiffness_N_per_m +
+                                1.0 / LocalSurfaceStiffness_N_per_m(c));
+    force_model_.state = ContactState::kContact;
+    force_model_.normal_W = n_W;
+    force_model_.stiffness_N_per_m = k_eff;
+    // Anchor such that k (anchor - tip)·n = F at the current tip.
+    force_model_.anchor_W_m = tool.tip_W_m + (force_N / k_eff) * n_W;
+  }
+  const bool tip_ok = tool.valid && tool.tip_W_m.allFinite();
+  status_.tip_depth_m = tip_ok ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
+  status_.current_layer = c.active ? 0 : -1;
+  if (c.active != was_in_contact_) {
+    events_.Push({state_.t_s, c.active ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd,
+                  0, tip_ok ? tool.tip_W_m : Eigen::Vector3d::Zero()});
+    was_in_contact_ = c.active;
+  }
+}
+
+void TissueBlockScene::RecoverFromBlowup() {
+  const double t_s = state_.t_s;
+  const std::uint64_t blowups = state_.blowups;
+  state_ = initial_state_;  // same sizes: copies, no allocation
+  state_.t_s = t_s;
+  state_.blowups = blowups;
+  loaded_nodes_ = {};
+  region_seed_ = -1;
+  ++status_.numerical_resets;
+  events_.Push({t_s, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
+}
+
+void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
+  if (!(std::isfinite(dt_s) && dt_s > 0.0)) return;
+  const int substeps = static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(dt_s / params_.dt_s)));
+  const double h = std::min(dt_s / substeps, params_.dt_s);
+  for (int k = 0; k < substeps; ++k) {
+    const Contact c = FindContact(tool);
+    ApplyContactForce(c);
+    if (!Advance(c, h).ok) {
+      RecoverFromBlowup();
+      break;
+    }
+  }
+  UpdateOutputs(tool, FindContact(tool));
+}
+
+StepReport TissueBlockScene::Advance(const Contact& c, double h_s) {
+  if (params_.local_update_hops == 0 || !c.active) {
+    return StepMsm(model_, state_, h_s, params_.integrator, workspace_);
+  }
+  // Centre the region on the corner carrying most of the load; reselect
+  // only when that changes (selection is allocation-free but O(region)).
+  const auto heaviest = static_cast<std::size_t>(
+      std::max_element(c.weights.begin(), c.weights.end()) - c.weights.begin());
+  if (c.nodes[heaviest] != region_seed_) {
+    region_seed_ = c.nodes[heaviest];
+    SelectLocalRegion(model_, region_seed_, params_.local_update_hops, region_);
+  }
+  return StepMsmLocal(model_, state_, h_s, params_.integrator, workspace_, region_);
+}
+
+void TissueBlockScene::Reset() {
+  state_ = initial_state_;
+  loaded_nodes_ = {};
+  region_seed_ = -1;
+  was_in_contact_ = false;
+  tool_force_W_N_.setZero();
+  force_model_ = LocalForceModel{};
+  status_.current_layer = -1;
+  status_.tip_depth_m = 0.0;
+  events_.Push({0.0, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
+  reset_epoch_ = ResetEpoch::Now(*this);
+}
+
+std::uint64_t TissueBlockScene::StateHash() const {
+  StateHasher h;
+  AddCommonSceneState(h, *this, reset_epoch_);
+  // Vertices_m() is state_.x_m; the workspace and the region are scratch and
+  // a cache (the integrators start from zero, the region is a function of the
+  // tool's cell).
+  h.Add(state_.x_m).Add(state_.v_m_per_s).Add(state_.f_ext_N).Add(state_.f_residual_N).Add(state_.blowups);
+  h.Add(loaded_nodes_).Add(was_in_contact_);
+  return h.Value();
+}
+
+std::unique_ptr<Scene> MakeTissueBlockScene(const std::map<std::string, double>& params) {
+  return std::make_unique<TissueBlockScene>(ParseTissueBlockParams(params));
+}
+
+}  // namespace hapsim::core

@@ -1,0 +1,50 @@
+// The DDS I/O thread every process runs: it sleeps on a waitset and, on
+// each wake (a reader has data, Wake() was called, or the timeout passed),
+// runs on_wake() and then on_reader(tag) once per triggered reader, with the
+// tag the reader was attached with. The server attaches one pose reader per
+// session (tag: the session), a bridge or the load generator one force-model
+// reader per device (tag: its slot + 1). Real-time threads never wait on it:
+// they post into mailboxes and call Wake() (cheap, thread-safe).
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <thread>
+
+#include "hapsim/dds/dds.h"
+
+namespace hapsim::dds {
+
+class IoThread {
+ public:
+  struct Handlers {
+    std::function<void()> on_wake;                 // every wake, before the readers (may be empty)
+    std::function<void(dds_attach_t)> on_reader;   // a triggered reader's tag
+  };
+
+  // wake_timeout_ns: the thread wakes at least this often.
+  explicit IoThread(const Participant& participant, std::int64_t wake_timeout_ns = 5'000'000);
+  ~IoThread();
+  IoThread(const IoThread&) = delete;
+  IoThread& operator=(const IoThread&) = delete;
+
+  // A reader's samples wake the thread and are reported with `tag` (any
+  // value but WaitSet::kGuardTag) until the returned condition is
+  // destroyed. Thread-safe against a running thread.
+  Entity AttachReader(dds_entity_t reader, dds_attach_t tag) { return waitset_.AttachReader(reader, tag); }
+
+  void Start(Handlers handlers);
+  void Stop();  // joins; idempotent
+  void Wake() { waitset_.Wake(); }
+
+ private:
+  void Run();
+
+  WaitSet waitset_;
+  std::int64_t wake_timeout_ns_;
+  Handlers handlers_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace hapsim::dds
