@@ -22,7 +22,7 @@ constexpr const char* kUsage =
     "usage: hapsim-ctl [--server HOST:PORT] [--timeout-s S] COMMAND [ARGS]\n\n"
     "Session control for a hapsim-server (default server 127.0.0.1:50051; every call gives up\n"
     "after --timeout-s seconds, default 10).\n\ncommands:\n"
-    "  scenes                              list the scenes a session can run\n"
+    "  scenes                              the scenes a session can run, with every parameter\n"
     "  list                                list sessions with their counters\n"
     "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
     "                                      create a session (prints its id)\n"
@@ -146,7 +146,14 @@ int main(int argc, char** argv) {
     hapsim::v1::ListScenesResponse r;
     const auto s = stub->ListScenes(&ctx, {}, &r);
     if (!s.ok()) return Fail(s);
-    for (const auto& scene : r.scenes()) std::printf("%-16s %s\n", scene.name().c_str(), scene.description().c_str());
+    for (const auto& scene : r.scenes()) {
+      std::printf("%s: %s\n", scene.name().c_str(), scene.description().c_str());
+      for (const auto& p : scene.parameters()) {
+        const bool plain = p.unit() == "1" || p.unit() == "count" || p.unit() == "code";  // no unit worth printing
+        std::printf("  %-31s default %g%s%s, %s: %s\n", p.name().c_str(), p.default_value(), plain ? "" : " ",
+                    plain ? "" : p.unit().c_str(), p.range().c_str(), p.description().c_str());
+      }
+    }
     return 0;
   }
   if (command == "list") {

@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "hapsim/common/flags.h"
+#include "hapsim/core/scenes/scene.h"
 #include "hapsim/common/logging.h"
 #include "hapsim/service/server_app.h"
 
@@ -58,6 +59,17 @@ void PrintSummary(hapsim::service::ServerApp& app) {
   std::fflush(stdout);
 }
 
+// --help: the flags, then every scene with its parameters (from the scenes'
+// parameter tables, as ListScenes and `hapsim-ctl scenes` give them).
+void PrintHelp(const hapsim::common::Flags& flags) {
+  std::fputs(flags.Help().c_str(), stdout);
+  std::printf("\nScenes (--sessions id:scene uses the defaults; `hapsim-ctl create --param KEY=VALUE` sets them):\n");
+  for (const auto& scene : hapsim::core::SceneCatalog()) {
+    std::printf("\n%s: %s\n%s", scene.name.c_str(), scene.description.c_str(),
+                hapsim::core::FormatParams(scene.params).c_str());
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,7 +100,7 @@ int main(int argc, char** argv) {
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
-    case hapsim::common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::common::Flags::Result::kHelp: PrintHelp(flags); return 0;
     case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
     case hapsim::common::Flags::Result::kOk: break;
   }

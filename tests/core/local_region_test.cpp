@@ -80,11 +80,13 @@ TEST(LocalRegion, ErrorAgainstFullUpdateShrinksAsTheRegionGrows) {
   EXPECT_LT(previous_m, 0.01 * std::abs(full.x_m(2, kCentre)));
 }
 
-TEST(LocalRegion, BadSeedIsAnError) {
+// A bad seed is a programming error reachable from a step: it aborts with a
+// message (HAPSIM_DEMAND), it does not throw through Step().
+TEST(LocalRegionDeathTest, BadSeedAbortsWithAMessage) {
   const MsmModel model = Patch();
   LocalRegion region = MakeLocalRegion(model);
-  EXPECT_THROW(SelectLocalRegion(model, -1, 2, region), std::out_of_range);
-  EXPECT_THROW(SelectLocalRegion(model, model.num_nodes, 2, region), std::out_of_range);
+  EXPECT_DEATH(SelectLocalRegion(model, -1, 2, region), "HAPSIM_DEMAND failed.*seed node out of");
+  EXPECT_DEATH(SelectLocalRegion(model, model.num_nodes, 2, region), "seed node out of");
 }
 
 }  // namespace

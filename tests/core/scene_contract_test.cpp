@@ -173,7 +173,7 @@ TEST_P(SceneContract, ScriptEndsInTheGoldenHash) {
 
 std::vector<std::string> CatalogNames() {
   std::vector<std::string> names;
-  for (const auto& [name, description] : SceneCatalog()) names.push_back(name);
+  for (const auto& scene : SceneCatalog()) names.push_back(scene.name);
   return names;
 }
 

@@ -58,7 +58,7 @@ class EveryScene : public ::testing::TestWithParam<std::string> {};
 
 std::vector<std::string> SceneNames() {
   std::vector<std::string> names;
-  for (const auto& [name, description] : core::SceneCatalog()) names.push_back(name);
+  for (const auto& scene : core::SceneCatalog()) names.push_back(scene.name);
   return names;
 }
 

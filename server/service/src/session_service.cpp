@@ -65,10 +65,24 @@ void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
 
 Status SessionServiceImpl::ListScenes(grpc::ServerContext*, const hapsim::v1::ListScenesRequest*,
                                       hapsim::v1::ListScenesResponse* out) {
-  for (const auto& [name, description] : core::SceneCatalog()) {
+  for (const auto& scene : core::SceneCatalog()) {
     auto* s = out->add_scenes();
-    s->set_name(name);
-    s->set_description(description);
+    s->set_name(scene.name);
+    s->set_description(scene.description);
+    for (const auto& p : scene.params) {
+      auto* q = s->add_parameters();
+      q->set_name(p.spec.name);
+      q->set_unit(p.spec.unit);
+      q->set_default_value(p.default_value);
+      q->set_min(p.spec.min);
+      q->set_max(p.spec.max);
+      q->set_min_exclusive(p.spec.min_open);
+      q->set_max_exclusive(p.spec.max_open);
+      q->set_integer(p.spec.integer);
+      q->set_description(p.spec.description);
+      for (const auto& c : p.spec.choices) q->add_choices(c);
+      q->set_range(core::DescribeRange(p.spec));
+    }
   }
   return Status::OK;
 }

@@ -1,8 +1,8 @@
 #include "hapsim/core/msm/local_region.h"
 
 #include <algorithm>
-#include <stdexcept>
-#include <string>
+
+#include "hapsim/core/assert.h"
 
 namespace hapsim::core {
 
@@ -71,9 +71,8 @@ void CollectRegion(const MsmModel& m, LocalRegion& r) {
 }  // namespace
 
 void SelectLocalRegion(const MsmModel& m, std::int32_t seed, std::int32_t max_hops, LocalRegion& r) {
-  if (seed < 0 || seed >= m.num_nodes)
-    throw std::out_of_range("SelectLocalRegion: seed node " + std::to_string(seed) + " not in [0, " +
-                            std::to_string(m.num_nodes) + ")");
+  // Reachable from a scene's Step(): a programming error, not bad input.
+  HAPSIM_DEMAND(seed >= 0 && seed < m.num_nodes, "SelectLocalRegion: seed node out of [0, num_nodes)");
   // BFS over spring adjacency up to max_hops.
   r.queue.clear();
   r.queue.push_back(seed);

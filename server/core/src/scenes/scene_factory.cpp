@@ -2,8 +2,10 @@
 #include <functional>
 #include <stdexcept>
 
+#include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/scene_builders.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block_params.h"
 
 namespace hapsim::core {
 
@@ -24,23 +26,24 @@ struct CatalogEntry {
   const char* name;
   const char* description;
   std::unique_ptr<Scene> (*build)(const std::map<std::string, double>& params);
+  std::vector<ParamInfo> (*params)();
 };
 
 // Keep sorted by name.
 constexpr CatalogEntry kCatalog[] = {
     {"acupuncture",
      "three-layer SH tissue (skin/fat/muscle), mass-spring force net, layered puncture and springback",
-     &MakeAcupunctureScene},
+     &MakeAcupunctureScene, [] { return AcupunctureParamTable().Describe(); }},
     {"tissue_block",
      "soft tissue block: mass-spring surface grid over anchored springs, pressed by a needle",
-     &MakeTissueBlockScene},
+     &MakeTissueBlockScene, [] { return TissueBlockParamTable().Describe(); }},
 };
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> SceneCatalog() {
-  std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& e : kCatalog) out.emplace_back(e.name, e.description);
+std::vector<SceneDescription> SceneCatalog() {
+  std::vector<SceneDescription> out;
+  for (const auto& e : kCatalog) out.push_back({e.name, e.description, e.params()});
   return out;
 }
 

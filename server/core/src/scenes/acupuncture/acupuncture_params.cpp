@@ -1,74 +1,81 @@
 #include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
 
-#include <cmath>
-#include <functional>
 #include <sstream>
 #include <stdexcept>
-#include <vector>
 
 namespace hapsim::core {
 
 namespace {
 
-struct Field {
-  std::string key;
-  double lo, hi;
-  std::function<void(AcupunctureParams&, double)> set;
-  bool integer = false;
-};
-
-std::vector<Field> Fields() {
-  std::vector<Field> f = {
-      {"shf_lmax", 1, AcupunctureLimits::kMaxShfLmax, [](auto& p, double v) { p.shf_lmax = static_cast<int>(v); },
-       true},
-      {"shf_samples", 16, AcupunctureLimits::kMaxShfSamples,
-       [](auto& p, double v) { p.shf_samples = static_cast<int>(v); }, true},
-      {"net_tension_ratio", 1e-3, 1e4, [](auto& p, double v) { p.net_tension_ratio = v; }},
-      {"ring_w_threshold_ratio", 1e-6, 0.5, [](auto& p, double v) { p.ring_w_threshold_ratio = v; }},
-      {"springback_eta0", 0, 1, [](auto& p, double v) { p.springback_eta0 = v; }},
-      {"springback_eta_rate_per_step", 0, 1, [](auto& p, double v) { p.springback_eta_rate_per_step = v; }},
-      {"tunnel_stiffness_N_per_m", 0, 1e5, [](auto& p, double v) { p.tunnel_stiffness_N_per_m = v; }},
-      {"render_stiffness_max_N_per_m", 1, 1e5, [](auto& p, double v) { p.render_stiffness_max_N_per_m = v; }},
-      {"contact_damping_Ns_per_m", 0, 100, [](auto& p, double v) { p.contact_damping_Ns_per_m = v; }},
-      {"patch_size_m", 0.005, 0.2, [](auto& p, double v) { p.patch_size_m = v; }},
-      {"patch_grid_nodes", 2, AcupunctureLimits::kMaxPatchGridNodes,
-       [](auto& p, double v) { p.patch_grid_nodes = static_cast<int>(v); }, true},
-  };
-  const char* names[kNumTissueLayers] = {"skin", "fat", "muscle"};
+ParamTable<AcupunctureParams> MakeTable() {
+  using P = AcupunctureParams;
+  ParamTable<P> t("acupuncture");
+  t.Add({.name = "shf_lmax", .unit = "count", .min = 1, .max = AcupunctureLimits::kMaxShfLmax, .integer = true,
+         .description = "degree Lmax of each layer's spherical-harmonic surface"},
+        &P::shf_lmax)
+      .Add({.name = "shf_samples", .unit = "count", .min = 16, .max = AcupunctureLimits::kMaxShfSamples,
+            .integer = true, .description = "surface samples per SH fit (at least (shf_lmax+1)^2)"},
+           &P::shf_samples)
+      .Add({.name = "net_tension_ratio", .unit = "1", .min = 1e-3, .max = 1e4,
+            .description = "k_s / K of the force net's surface springs"},
+           &P::net_tension_ratio)
+      .Add({.name = "ring_w_threshold_ratio", .unit = "1", .min = 1e-6, .max = 0.5,
+            .description = "zeta / L: ring w counts as deformed (puncture) at Z_w >= zeta"},
+           &P::ring_w_threshold_ratio)
+      .Add({.name = "springback_eta0", .unit = "1", .min = 0, .max = 1,
+            .description = "shape-matching damping eta at puncture (1: particles stay)"},
+           &P::springback_eta0)
+      .Add({.name = "springback_eta_rate_per_step", .unit = "1", .min = 0, .max = 1,
+            .description = "eta_r: eta decreases by this each step after puncture"},
+           &P::springback_eta_rate_per_step)
+      .Add({.name = "tunnel_stiffness_N_per_m", .unit = "N/m", .min = 0, .max = 1e5,
+            .description = "lateral needle-tunnel stiffness after puncture"},
+           &P::tunnel_stiffness_N_per_m)
+      .Add({.name = "render_stiffness_max_N_per_m", .unit = "N/m", .min = 1, .max = 1e5,
+            .description = "cap on the contact stiffness sent to the device"},
+           &P::render_stiffness_max_N_per_m)
+      .Add({.name = "contact_damping_Ns_per_m", .unit = "N*s/m", .min = 0, .max = 100,
+            .description = "damper in the device's local contact model"},
+           &P::contact_damping_Ns_per_m)
+      .Add({.name = "patch_size_m", .unit = "m", .min = 0.005, .max = 0.2,
+            .description = "side of the displayed square of each layer surface"},
+           &P::patch_size_m)
+      .Add({.name = "patch_grid_nodes", .unit = "count", .min = 2, .max = AcupunctureLimits::kMaxPatchGridNodes,
+            .integer = true, .description = "nodes per side of each displayed patch"},
+           &P::patch_grid_nodes);
+  const std::array<TissueLayer, kNumTissueLayers> table2 = PaperTissueLayers();
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
-    const std::string n = names[i];
-    f.push_back({n + "_thickness_m", 1e-5, 0.05, [i](auto& p, double v) { p.layers[i].thickness_m = v; }});
-    f.push_back({n + "_K_N_per_m", 1e-3, 1e6, [i](auto& p, double v) { p.layers[i].virtual_K_N_per_m = v; }});
-    f.push_back({n + "_d_Ns_per_m2", 0, 1e6, [i](auto& p, double v) { p.layers[i].damping_Ns_per_m2 = v; }});
-    f.push_back({n + "_rings", 2, AcupunctureLimits::kMaxRings, [i](auto& p, double v) { p.layers[i].rings_w = static_cast<int>(v); }, true});
-    f.push_back({n + "_spacing_m", 1e-5, 0.01, [i](auto& p, double v) { p.layers[i].spacing_L_m = v; }});
+    const std::string n = table2[i].name;
+    t.Add({.name = n + "_thickness_m", .unit = "m", .min = 1e-5, .max = 0.05, .description = n + " layer thickness"},
+          [i](const P& p) { return p.layers[i].thickness_m; }, [i](P& p, double v) { p.layers[i].thickness_m = v; })
+        .Add({.name = n + "_K_N_per_m", .unit = "N/m", .min = 1e-3, .max = 1e6,
+              .description = n + " force-net virtual spring stiffness K (Table 2)"},
+             [i](const P& p) { return p.layers[i].virtual_K_N_per_m; },
+             [i](P& p, double v) { p.layers[i].virtual_K_N_per_m = v; })
+        .Add({.name = n + "_d_Ns_per_m2", .unit = "N*s/m^2", .min = 0, .max = 1e6,
+              .description = n + " shaft damping d per metre inserted (Table 1)"},
+             [i](const P& p) { return p.layers[i].damping_Ns_per_m2; },
+             [i](P& p, double v) { p.layers[i].damping_Ns_per_m2 = v; })
+        .Add({.name = n + "_rings", .unit = "count", .min = 2, .max = AcupunctureLimits::kMaxRings, .integer = true,
+              .description = n + " force-net rings w (Table 2)"},
+             [i](const P& p) { return static_cast<double>(p.layers[i].rings_w); },
+             [i](P& p, double v) { p.layers[i].rings_w = static_cast<int>(v); })
+        .Add({.name = n + "_spacing_m", .unit = "m", .min = 1e-5, .max = 0.01,
+              .description = n + " force-net spring length L (Table 2)"},
+             [i](const P& p) { return p.layers[i].spacing_L_m; }, [i](P& p, double v) { p.layers[i].spacing_L_m = v; });
   }
-  return f;
+  return t;
 }
 
 }  // namespace
 
+const ParamTable<AcupunctureParams>& AcupunctureParamTable() {
+  static const ParamTable<AcupunctureParams> table = MakeTable();
+  return table;
+}
+
 AcupunctureParams ParseAcupunctureParams(const std::map<std::string, double>& params) {
-  AcupunctureParams p;
-  const std::vector<Field> fields = Fields();
-  for (const auto& [key, value] : params) {
-    const Field* field = nullptr;
-    for (const auto& f : fields)
-      if (f.key == key) field = &f;
-    if (!field) {
-      std::string known;
-      for (const auto& f : fields) known += (known.empty() ? "" : ", ") + f.key;
-      throw std::invalid_argument("acupuncture: unknown parameter '" + key + "' (known: " + known + ")");
-    }
-    if (!std::isfinite(value) || value < field->lo || value > field->hi ||
-        (field->integer && value != std::floor(value))) {
-      std::ostringstream msg;
-      msg << "acupuncture: parameter '" << key << "' = " << value << " must be "
-          << (field->integer ? "an integer " : "") << "in [" << field->lo << ", " << field->hi << "]";
-      throw std::invalid_argument(msg.str());
-    }
-    field->set(p, value);
-  }
+  const AcupunctureParams p = AcupunctureParamTable().Parse(params);
   // A least-squares fit of (Lmax+1)^2 coefficients needs at least as many samples.
   const int coefficients = (p.shf_lmax + 1) * (p.shf_lmax + 1);
   if (p.shf_samples < coefficients) {

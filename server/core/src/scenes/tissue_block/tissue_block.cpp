@@ -15,135 +15,10 @@ namespace {
 // Fraction of the critical step a scene may use: the Gershgorin bound is
 // conservative near rest, but stretched springs stiffen transversally.
 constexpr double kCriticalStepSafety = 0.9;
-// At most this many sub-steps per Step(): a huge dt (e.g. after a pause) is
-// truncated instead of stalling the tick.
-constexpr int kMaxSubsteps = 1000;
-static_assert(kMaxSubsteps * TissueBlockLimits::kMinDt_s >= 1e-3, "a 1 ms Step() must never be truncated");
-// The tick the cost limit is stated for [s] (the server's 1 kHz period).
-constexpr double kReferenceTick_s = 1e-3;
 // Tool speed used by the contact damper is clamped to this [m/s].
 constexpr double kMaxToolSpeed_m_per_s = 10.0;
 
-[[noreturn]] void Bad(const std::string& key, const std::string& why) {
-  throw std::invalid_argument("tissue_block: parameter '" + key + "' " + why);
-}
-
-double Positive(const std::string& key, double v) {
-  if (!(std::isfinite(v) && v > 0.0)) Bad(key, "must be finite and > 0, got " + std::to_string(v));
-  return v;
-}
-double NonNegative(const std::string& key, double v) {
-  if (!(std::isfinite(v) && v >= 0.0)) Bad(key, "must be finite and >= 0, got " + std::to_string(v));
-  return v;
-}
-
-// Cost of one node through one sub-step relative to symplectic Euler,
-// measured on the tissue grid (docs/scene-limits.md). Backward Euler: a
-// setup of ~4 plus ~1.1 per CG iteration, at the iteration cap.
-constexpr double kBackwardEulerCost = 4.0 + 1.1 * TissueBlockLimits::kMaxCgIterations;
-double IntegratorCost(IntegratorKind kind) {
-  switch (kind) {
-    case IntegratorKind::kExplicitEuler: return 1.5;
-    case IntegratorKind::kSymplecticEuler: return 1.0;
-    case IntegratorKind::kImprovedEuler: return 1.5;
-    case IntegratorKind::kMidpointAveraging: return 2.5;
-    case IntegratorKind::kRk4: return 5.0;
-    case IntegratorKind::kBackwardEuler: return kBackwardEulerCost;
-  }
-  return kBackwardEulerCost;  // unreachable: the most expensive
-}
-// Local update: integrating through node/spring index lists costs ~15 % more
-// per node, and re-selecting a region ~8 node updates per region node (BFS,
-// sorts).
-constexpr double kLocalUpdateOverhead = 1.15;
-constexpr double kRegionSelectCostPerNode = 8.0;
-
-void CheckStepCost(const TissueBlockParams& p) {
-  const double cost = TissueBlockStepCost(p);
-  if (cost <= TissueBlockLimits::kMaxStepCost) return;
-  std::ostringstream msg;
-  msg << "tissue_block: parameters 'grid_nodes' = " << p.grid_nodes << ", 'dt_s' = " << p.dt_s
-      << " s, 'integrator' = " << ToString(p.integrator.kind) << " and 'local_update_hops' = " << p.local_update_hops
-      << " would cost about " << static_cast<long long>(cost) << " node updates per 1 ms step; the limit is "
-      << TissueBlockLimits::kMaxStepCost
-      << " (about 0.3 ms of CPU). Cost = grid_nodes^2 x ceil(0.001 s / dt_s) x integrator factor (explicit_euler "
-         "1.5, symplectic_euler 1, improved_euler 1.5, midpoint_averaging 2.5, rk4 5, backward_euler "
-      << kBackwardEulerCost << "), with "
-         "local_update_hops > 0 x 1.15 + 8 x min(grid_nodes^2, (2 local_update_hops + 1)^2). Use fewer grid_nodes, "
-         "a larger dt_s or a cheaper integrator (docs/scene-limits.md)";
-  throw std::invalid_argument(msg.str());
-}
-
 }  // namespace
-
-TissueBlockParams ParseTissueBlockParams(const std::map<std::string, double>& params) {
-  TissueBlockParams p;
-  for (const auto& [key, v] : params) {
-    if (key == "grid_nodes") {
-      if (!(v >= 3 && v <= TissueBlockLimits::kMaxGridNodes && std::floor(v) == v))
-        Bad(key, "must be an integer in [3, " + std::to_string(TissueBlockLimits::kMaxGridNodes) + "]");
-      p.grid_nodes = static_cast<int>(v);
-    } else if (key == "size_m") {
-      p.size_m = Positive(key, v);
-    } else if (key == "spring_stiffness_N_per_m") {
-      p.spring_stiffness_N_per_m = NonNegative(key, v);
-    } else if (key == "shear_stiffness_N_per_m") {
-      p.shear_stiffness_N_per_m = NonNegative(key, v);
-    } else if (key == "spring_damping_Ns_per_m") {
-      p.spring_damping_Ns_per_m = NonNegative(key, v);
-    } else if (key == "anchor_stiffness_N_per_m") {
-      p.anchor_stiffness_N_per_m = Positive(key, v);
-    } else if (key == "damping_Ns_per_m") {
-      p.damping_Ns_per_m = NonNegative(key, v);
-    } else if (key == "node_mass_kg") {
-      p.node_mass_kg = Positive(key, v);
-    } else if (key == "prestretch") {
-      if (!(std::isfinite(v) && v >= 0.0 && v < 1.0)) Bad(key, "must be in [0, 1)");
-      p.prestretch = v;
-    } else if (key == "contact_stiffness_N_per_m") {
-      p.contact_stiffness_N_per_m = Positive(key, v);
-    } else if (key == "contact_damping_Ns_per_m") {
-      p.contact_damping_Ns_per_m = NonNegative(key, v);
-    } else if (key == "max_penetration_m") {
-      p.max_penetration_m = Positive(key, v);
-    } else if (key == "dt_s") {
-      if (!(std::isfinite(v) && v >= TissueBlockLimits::kMinDt_s))
-        Bad(key, "must be finite and >= 1e-06 s (at most 1000 sub-steps per 1 ms tick), got " + std::to_string(v));
-      p.dt_s = v;
-    } else if (key == "integrator") {
-      const auto kind = IntegratorFromCode(v);
-      if (!kind)
-        Bad(key, "must be an integrator code 0..5 (0 explicit_euler, 1 symplectic_euler, "
-                 "2 improved_euler, 3 midpoint_averaging, 4 rk4, 5 backward_euler)");
-      p.integrator.kind = *kind;
-    } else if (key == "local_update_hops") {
-      if (!(v >= 0 && v <= 1000 && std::floor(v) == v)) Bad(key, "must be an integer in [0, 1000]");
-      p.local_update_hops = static_cast<int>(v);
-    } else if (key == "max_kinetic_energy_J") {
-      p.max_kinetic_energy_J = Positive(key, v);
-    } else if (key == "midpoint_alpha") {
-      if (!(std::isfinite(v) && v > 0.0 && v <= 1.0)) Bad(key, "must be in (0, 1]");
-      p.integrator.alpha = v;
-    } else {
-      Bad(key, "is unknown (known: grid_nodes, size_m, spring_stiffness_N_per_m, "
-               "shear_stiffness_N_per_m, spring_damping_Ns_per_m, anchor_stiffness_N_per_m, "
-               "damping_Ns_per_m, node_mass_kg, prestretch, contact_stiffness_N_per_m, "
-               "contact_damping_Ns_per_m, max_penetration_m, dt_s, integrator, midpoint_alpha, "
-               "local_update_hops, max_kinetic_energy_J)");
-    }
-  }
-  CheckStepCost(p);
-  return p;
-}
-
-double TissueBlockStepCost(const TissueBlockParams& p) {
-  const double nodes = static_cast<double>(p.grid_nodes) * p.grid_nodes;
-  const double substeps = std::min<double>(kMaxSubsteps, std::ceil(kReferenceTick_s / p.dt_s));
-  const double integrate = nodes * substeps * IntegratorCost(p.integrator.kind);
-  if (p.local_update_hops == 0) return integrate;
-  const double side = 2.0 * p.local_update_hops + 1.0;  // shear springs: hops reach a square
-  return kLocalUpdateOverhead * integrate + kRegionSelectCostPerNode * std::min(nodes, side * side);
-}
 
 MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
   const int n = p.grid_nodes;
@@ -332,7 +207,7 @@ void TissueBlockScene::RecoverFromBlowup() {
 
 void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
   if (!(std::isfinite(dt_s) && dt_s > 0.0)) return;
-  const int substeps = static_cast<int>(std::min<double>(kMaxSubsteps, std::ceil(dt_s / params_.dt_s)));
+  const int substeps = static_cast<int>(std::min<double>(TissueBlockLimits::kMaxSubsteps, std::ceil(dt_s / params_.dt_s)));
   const double h = std::min(dt_s / substeps, params_.dt_s);
   for (int k = 0; k < substeps; ++k) {
     const Contact c = FindContact(tool);

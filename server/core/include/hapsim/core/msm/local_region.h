@@ -32,7 +32,8 @@ struct LocalRegion {
 LocalRegion MakeLocalRegion(const MsmModel& model);
 
 // Selects the free nodes within `max_hops` spring hops of `seed_node`. Never
-// allocates. Throws std::out_of_range for a bad seed (caller input).
+// allocates, never throws: a seed outside [0, num_nodes) is a programming
+// error (HAPSIM_DEMAND aborts with a message).
 void SelectLocalRegion(const MsmModel& model, std::int32_t seed_node, std::int32_t max_hops,
                        LocalRegion& region);
 

@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/core/scenes/param_table.h"
 
 namespace hapsim::core {
 
@@ -126,8 +127,14 @@ struct SceneSpec {
   std::map<std::string, double> params;
 };
 
-// Names MakeScene() accepts, with a one-line description each.
-std::vector<std::pair<std::string, std::string>> SceneCatalog();
+// A scene MakeScene() accepts: its name, a one-line description and every
+// parameter it takes (from the scene's parameter table), sorted by name.
+struct SceneDescription {
+  std::string name;
+  std::string description;
+  std::vector<ParamInfo> params;
+};
+std::vector<SceneDescription> SceneCatalog();
 
 // Throws std::invalid_argument for an unknown scene or a bad parameter.
 std::unique_ptr<Scene> MakeScene(const SceneSpec& spec);

@@ -1,19 +1,8 @@
 // Parameters of the `acupuncture` scene (SceneSpec::params, SI, names with
-// units). Every key is optional; unknown keys and out-of-range values throw
-// std::invalid_argument naming the key.
-//
-//   shf_lmax (8, [1, 16]), shf_samples (600, [(shf_lmax+1)^2, 3000])
-//                                            SH degree / samples per layer fit
-//   net_tension_ratio (30)                   k_s / K of the force-net surface springs
-//   ring_w_threshold_ratio (0.02)            ζ / L: ring w counts as deformed at Z_w >= ζ
-//   springback_eta0 (1), springback_eta_rate_per_step (0.02)   η start and η_r
-//   tunnel_stiffness_N_per_m (300)           lateral needle-tunnel stiffness after puncture
-//   render_stiffness_max_N_per_m (2000)      cap on the contact stiffness sent to the device
-//   contact_damping_Ns_per_m (0.5)           damper in the local contact model (device only)
-//   patch_size_m (0.06), patch_grid_nodes (41, [2, 101])   displayed square of each layer surface
-//   <layer>_thickness_m, <layer>_K_N_per_m, <layer>_d_Ns_per_m2, <layer>_rings,
-//   <layer>_spacing_m for layer in skin, fat, muscle   (defaults: Table 2, tissue_layers.h;
-//   <layer>_rings in [2, 30])
+// units): AcupunctureParamTable() declares each once (unit, range,
+// description; defaults are AcupunctureParams{}, layers from Table 2 in
+// tissue_layers.h). Every key is optional; unknown keys and out-of-range
+// values throw std::invalid_argument naming the key.
 //
 // The SH fit (4 surfaces, SVD of shf_samples x (shf_lmax+1)^2) dominates the
 // build, the patches and nets the tick: AcupunctureLimits keep the worst
@@ -25,6 +14,7 @@
 #include <string>
 
 #include "hapsim/core/needle/tissue_layers.h"
+#include "hapsim/core/scenes/param_table.h"
 
 namespace hapsim::core {
 
@@ -52,6 +42,10 @@ struct AcupunctureParams {
   std::array<TissueLayer, kNumTissueLayers> layers = PaperTissueLayers();
 };
 
+const ParamTable<AcupunctureParams>& AcupunctureParamTable();
+
+// The table, then the cross-parameter rules: shf_samples >= (shf_lmax+1)^2
+// and a total layer thickness <= 0.06 m.
 AcupunctureParams ParseAcupunctureParams(const std::map<std::string, double>& params);
 
 }  // namespace hapsim::core
