@@ -57,6 +57,28 @@ TEST(PoseFilter, DropsAbsurdPositionSpeedAndQuaternion) {
   EXPECT_EQ(why, PoseRejection::kBadQuaternion);
 }
 
+// docs/protocol.md: a pose "farther than 2 m from the origin" is dropped —
+// the distance, not the largest coordinate: (1.5, 1.5, 0) m is 2.12 m away.
+TEST(PoseFilter, PositionLimitIsTheDistanceFromTheOrigin) {
+  PoseRejection why;
+  auto p = GoodPose();
+  p.pos_m[0] = 1.5;
+  p.pos_m[1] = 1.5;
+  p.pos_m[2] = 0.0;
+  EXPECT_FALSE(FilterPose(p, {}, &why));
+  EXPECT_EQ(why, PoseRejection::kPositionOutOfRange);
+  // At the boundary: 2 m exactly is accepted, the next double beyond is not.
+  p.pos_m[0] = 1.2;
+  p.pos_m[1] = 1.6;  // |(1.2, 1.6, 0)| = 2 (to within one ulp)
+  const double d = Eigen::Vector3d(1.2, 1.6, 0.0).norm();  // as the filter computes it
+  PoseLimits limits;
+  limits.max_distance_m = d;
+  EXPECT_TRUE(FilterPose(p, limits, &why));
+  limits.max_distance_m = std::nextafter(d, 0.0);
+  EXPECT_FALSE(FilterPose(p, limits, &why));
+  EXPECT_EQ(why, PoseRejection::kPositionOutOfRange);
+}
+
 TEST(PoseFilter, DropsSessionFieldWithoutTerminator) {
   auto p = GoodPose();
   std::memset(p.session, 'x', sizeof p.session);

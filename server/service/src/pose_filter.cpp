@@ -37,7 +37,7 @@ std::optional<core::ToolInput> FilterPose(const hapsim_dds_StylusPose& pose, con
     *why = PoseRejection::kNotFinite;
     return std::nullopt;
   }
-  if (p.cwiseAbs().maxCoeff() > limits.max_abs_position_m) {
+  if (p.norm() > limits.max_distance_m) {  // distance from the origin, as docs/protocol.md states
     *why = PoseRejection::kPositionOutOfRange;
     return std::nullopt;
   }

@@ -12,7 +12,7 @@
 namespace hapsim::service {
 
 struct PoseLimits {
-  double max_abs_position_m = 2.0;   // the device workspace is ~0.2 m; 2 m is clearly bogus
+  double max_distance_m = 2.0;       // from the origin; the device workspace is ~0.2 m, 2 m is clearly bogus
   double max_speed_m_per_s = 10.0;   // hand motion stays well below this
   double quaternion_norm_tolerance = 0.05;  // |q| must be within 1 ± this (then normalised)
 };
