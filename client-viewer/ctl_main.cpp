@@ -210,9 +210,13 @@ int main(int argc, char** argv) {
     hapsim::v1::MeshSnapshot snap;
     const auto s = stub->GetSnapshot(&ctx, ref, &snap);
     if (!s.ok()) return Fail(s);
-    Eigen::Matrix3Xd v = Eigen::Map<const Eigen::Matrix3Xd>(snap.positions_m().data(), 3, snap.positions_m_size() / 3);
-    std::vector<std::uint32_t> tris(snap.triangles().begin(), snap.triangles().end());
-    if (!hapsim::viewer::WriteObj(obj, v, tris, {}, "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s()))) {
+    hapsim::viewer::CompactMesh mesh;
+    mesh.vertices_m = Eigen::Map<const Eigen::Matrix3Xd>(snap.positions_m().data(), 3, snap.positions_m_size() / 3);
+    mesh.triangles.assign(snap.triangles().begin(), snap.triangles().end());
+    for (const auto p : snap.triangle_parts()) mesh.triangle_parts.push_back(static_cast<std::uint16_t>(p));
+    mesh.part_names.assign(snap.part_names().begin(), snap.part_names().end());
+    if (mesh.triangle_parts.size() * 3 != mesh.triangles.size()) mesh.part_names.clear();  // an older server: one group
+    if (!hapsim::viewer::WriteObj(obj, mesh, "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s()))) {
       std::fprintf(stderr, "hapsim-ctl: cannot write %s\n", obj.c_str());
       return 1;
     }

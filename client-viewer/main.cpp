@@ -82,8 +82,8 @@ int main(int argc, char** argv) {
   std::string events;
   for (const auto& [kind, count] : s.events) events += " " + kind + "=" + std::to_string(count);
   std::printf("viewer: last seq %llu, sim time %.3f s, vertices %zu, triangles %zu, peak tool force %.3f N, events:%s\n",
-              static_cast<unsigned long long>(mesh.last_seq()), s.last_sim_time_s, mesh.vertex_count(),
-              mesh.triangles().size() / 3, s.peak_tool_force_N, events.empty() ? " none" : events.c_str());
+              static_cast<unsigned long long>(mesh.last_seq()), s.last_sim_time_s, mesh.live_vertex_count(),
+              mesh.live_triangle_count(), s.peak_tool_force_N, events.empty() ? " none" : events.c_str());
   if (!s.punctures.empty()) {
     std::string list;
     for (const auto& p : s.punctures) list += " " + p;
@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
   if (!obj_path.empty() && mesh.has_mesh()) {
     const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +
                                 ", quantum " + std::to_string(mesh.quantum_m()) + " m";
-    if (!hapsim::viewer::WriteObj(obj_path, mesh.Vertices_m(), mesh.triangles(), mesh.parts(), comment)) {
+    if (!hapsim::viewer::WriteObj(obj_path, mesh.Compact(), comment)) {
       std::fprintf(stderr, "hapsim-viewer: cannot write %s\n", obj_path.c_str());
       return 1;
     }

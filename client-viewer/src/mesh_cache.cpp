@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 namespace hapsim::viewer {
 
@@ -17,10 +18,20 @@ const char* ToString(ApplyResult r) {
 }
 
 namespace {
+
 ApplyResult Fail(ApplyResult r, std::string* why, const std::string& text) {
   if (why) *why = text;
   return r;
 }
+bool Bad(std::string* why, const std::string& text) {
+  if (why) *why = text;
+  return false;
+}
+
+// Edit kinds of TopologyDelta.edits (docs/protocol.md).
+enum EditKind : std::uint32_t { kAddVertex = 0, kRemoveVertex = 1, kAddTriangle = 2, kRemoveTriangle = 3 };
+constexpr std::uint32_t kMaxSlots = 1u << 26;  // refuse absurd capacities before allocating
+
 }  // namespace
 
 ApplyResult MeshCache::Apply(const hapsim::v1::Frame& frame, std::string* why) {
@@ -34,27 +45,169 @@ ApplyResult MeshCache::ApplyKeyframe(const hapsim::v1::Frame& frame, std::string
   const double quantum = key.quantum_m();
   if (!(quantum > 0.0 && std::isfinite(quantum))) return Fail(ApplyResult::kMalformed, why, "bad quantum");
   if (key.positions_q_size() % 3 != 0) return Fail(ApplyResult::kMalformed, why, "positions not a multiple of 3");
-  if (key.triangles_size() % 3 != 0) return Fail(ApplyResult::kMalformed, why, "triangles not a multiple of 3");
-  const auto n_vertices = static_cast<std::uint32_t>(key.positions_q_size() / 3);
-  for (const auto index : key.triangles()) {
-    if (index >= n_vertices) return Fail(ApplyResult::kMalformed, why, "triangle index out of range");
+  if (key.triangles_size() != 3 * key.triangle_parts_size()) {
+    return Fail(ApplyResult::kMalformed, why, "triangles and triangle parts do not match");
   }
-  const auto n_triangles = static_cast<std::uint64_t>(key.triangles_size() / 3);
-  for (const auto& p : key.parts()) {
-    if (static_cast<std::uint64_t>(p.first_triangle()) + p.triangle_count() > n_triangles) {
-      return Fail(ApplyResult::kMalformed, why, "part '" + p.name() + "' runs past the triangle list");
+  const auto n_vertices = static_cast<std::uint32_t>(key.positions_q_size() / 3);
+  const auto n_triangles = static_cast<std::uint32_t>(key.triangle_parts_size());
+  if (key.vertex_capacity() < n_vertices || key.triangle_capacity() < n_triangles ||
+      key.vertex_capacity() > kMaxSlots || key.triangle_capacity() > kMaxSlots) {
+    return Fail(ApplyResult::kMalformed, why, "slot capacities smaller than the mesh or absurd");
+  }
+  std::vector<std::uint8_t> vlive(n_vertices, 1), tlive(n_triangles, 1);
+  for (const auto v : key.free_vertices()) {
+    if (v >= n_vertices || !vlive[v]) return Fail(ApplyResult::kMalformed, why, "bad free vertex slot");
+    vlive[v] = 0;
+  }
+  for (const auto t : key.free_triangles()) {
+    if (t >= n_triangles || !tlive[t]) return Fail(ApplyResult::kMalformed, why, "bad free triangle slot");
+    tlive[t] = 0;
+  }
+  std::vector<std::uint32_t> uses(n_vertices, 0);
+  for (std::uint32_t t = 0; t < n_triangles; ++t) {
+    if (!tlive[t]) continue;
+    const std::uint32_t a = key.triangles(static_cast<int>(3 * t)), b = key.triangles(static_cast<int>(3 * t + 1)),
+                        c = key.triangles(static_cast<int>(3 * t + 2));
+    if (a >= n_vertices || b >= n_vertices || c >= n_vertices || !vlive[a] || !vlive[b] || !vlive[c] || a == b ||
+        b == c || a == c) {
+      return Fail(ApplyResult::kMalformed, why, "triangle " + std::to_string(t) + " names a free, repeated or unknown vertex");
     }
+    if (key.triangle_parts(static_cast<int>(t)) >= static_cast<std::uint32_t>(key.part_names_size())) {
+      return Fail(ApplyResult::kMalformed, why, "triangle " + std::to_string(t) + " has an unknown part");
+    }
+    ++uses[a];
+    ++uses[b];
+    ++uses[c];
   }
   quantum_m_ = quantum;
+  vertex_capacity_ = key.vertex_capacity();
+  triangle_capacity_ = key.triangle_capacity();
   q_.assign(key.positions_q().begin(), key.positions_q().end());
-  triangles_.assign(key.triangles().begin(), key.triangles().end());
-  parts_.clear();
-  for (const auto& p : key.parts()) parts_.push_back({p.name(), p.first_triangle(), p.triangle_count()});
+  vertex_live_ = std::move(vlive);
+  vertex_uses_ = std::move(uses);
+  triangle_live_ = std::move(tlive);
+  triangles_.resize(n_triangles);
+  triangle_parts_.resize(n_triangles);
+  for (std::uint32_t t = 0; t < n_triangles; ++t) {
+    for (int k = 0; k < 3; ++k) triangles_[t][static_cast<std::size_t>(k)] = key.triangles(static_cast<int>(3 * t) + k);
+    triangle_parts_[t] = static_cast<std::uint16_t>(key.triangle_parts(static_cast<int>(t)));
+  }
+  live_vertices_ = live_triangles_ = 0;
+  for (const auto l : vertex_live_) live_vertices_ += l;
+  for (const auto l : triangle_live_) live_triangles_ += l;
+  part_names_.assign(key.part_names().begin(), key.part_names().end());
   layer_names_.assign(key.layer_names().begin(), key.layer_names().end());
   topology_version_ = frame.topology_version();
   last_seq_ = frame.seq();
   has_mesh_ = true;
   return ApplyResult::kApplied;
+}
+
+// Replays the edits on a small overlay of the slots they touch, so a bad
+// edit anywhere refuses the frame before anything changes.
+bool MeshCache::CheckTopology(const hapsim::v1::TopologyDelta& topo, std::string* why) const {
+  std::map<std::uint32_t, bool> vlive, tlive;
+  std::map<std::uint32_t, std::uint32_t> uses;
+  std::map<std::uint32_t, std::array<std::uint32_t, 3>> tverts;
+  auto vertex_live = [&](std::uint32_t v) {
+    const auto it = vlive.find(v);
+    return it != vlive.end() ? it->second : this->vertex_live(v);
+  };
+  auto vertex_uses = [&](std::uint32_t v) -> std::uint32_t& {
+    const auto it = uses.find(v);
+    if (it != uses.end()) return it->second;
+    return uses[v] = v < vertex_uses_.size() ? vertex_uses_[v] : 0;
+  };
+  auto triangle_live = [&](std::uint32_t t) {
+    const auto it = tlive.find(t);
+    return it != tlive.end() ? it->second : this->triangle_live(t);
+  };
+  const auto& e = topo.edits();
+  for (int i = 0; i < e.size();) {
+    if (i + 2 > e.size()) return Bad(why, "truncated edit");
+    const std::uint32_t kind = e[i], slot = e[i + 1];
+    switch (kind) {
+      case kAddVertex:
+        if (slot >= vertex_capacity_ || vertex_live(slot)) return Bad(why, "add of a live or out-of-range vertex slot");
+        vlive[slot] = true;
+        vertex_uses(slot) = 0;
+        i += 2;
+        break;
+      case kRemoveVertex:
+        if (!vertex_live(slot)) return Bad(why, "removal of a free vertex slot");
+        if (vertex_uses(slot) != 0) return Bad(why, "removal of a vertex a live triangle still uses");
+        vlive[slot] = false;
+        i += 2;
+        break;
+      case kAddTriangle: {
+        if (i + 6 > e.size()) return Bad(why, "truncated triangle edit");
+        const std::uint32_t part = e[i + 2], a = e[i + 3], b = e[i + 4], c = e[i + 5];
+        if (slot >= triangle_capacity_ || triangle_live(slot)) return Bad(why, "add of a live or out-of-range triangle slot");
+        if (part >= part_names_.size()) return Bad(why, "triangle with an unknown part");
+        if (!vertex_live(a) || !vertex_live(b) || !vertex_live(c) || a == b || b == c || a == c)
+          return Bad(why, "triangle naming a free or repeated vertex");
+        tlive[slot] = true;
+        tverts[slot] = {a, b, c};
+        ++vertex_uses(a);
+        ++vertex_uses(b);
+        ++vertex_uses(c);
+        i += 6;
+        break;
+      }
+      case kRemoveTriangle: {
+        if (!triangle_live(slot)) return Bad(why, "removal of a free triangle slot");
+        const auto it = tverts.find(slot);
+        const std::array<std::uint32_t, 3> v = it != tverts.end() ? it->second : triangles_[slot];
+        for (const auto x : v) --vertex_uses(x);
+        tlive[slot] = false;
+        i += 2;
+        break;
+      }
+      default:
+        return Bad(why, "unknown edit kind " + std::to_string(kind));
+    }
+  }
+  return true;
+}
+
+void MeshCache::ApplyTopology(const hapsim::v1::TopologyDelta& topo) {
+  const auto& e = topo.edits();
+  for (int i = 0; i < e.size();) {
+    const std::uint32_t kind = e[i], slot = e[i + 1];
+    if (kind == kAddVertex) {
+      if (slot >= vertex_live_.size()) {
+        vertex_live_.resize(slot + 1, 0);
+        vertex_uses_.resize(slot + 1, 0);
+        q_.resize(3 * (static_cast<std::size_t>(slot) + 1), 0);
+      }
+      vertex_live_[slot] = 1;
+      vertex_uses_[slot] = 0;
+      for (int k = 0; k < 3; ++k) q_[3 * slot + static_cast<std::size_t>(k)] = 0;
+      ++live_vertices_;
+      i += 2;
+    } else if (kind == kRemoveVertex) {
+      vertex_live_[slot] = 0;
+      --live_vertices_;
+      i += 2;
+    } else if (kind == kAddTriangle) {
+      if (slot >= triangle_live_.size()) {
+        triangle_live_.resize(slot + 1, 0);
+        triangles_.resize(slot + 1, {0, 0, 0});
+        triangle_parts_.resize(slot + 1, 0);
+      }
+      triangle_live_[slot] = 1;
+      triangle_parts_[slot] = static_cast<std::uint16_t>(e[i + 2]);
+      triangles_[slot] = {e[i + 3], e[i + 4], e[i + 5]};
+      for (const auto v : triangles_[slot]) ++vertex_uses_[v];
+      ++live_triangles_;
+      i += 6;
+    } else {  // kRemoveTriangle
+      triangle_live_[slot] = 0;
+      for (const auto v : triangles_[slot]) --vertex_uses_[v];
+      --live_triangles_;
+      i += 2;
+    }
+  }
 }
 
 ApplyResult MeshCache::ApplyDelta(const hapsim::v1::Frame& frame, std::string* why) {
@@ -63,25 +216,39 @@ ApplyResult MeshCache::ApplyDelta(const hapsim::v1::Frame& frame, std::string* w
     return Fail(ApplyResult::kGap, why,
                 "expected seq " + std::to_string(last_seq_ + 1) + ", got " + std::to_string(frame.seq()));
   }
-  if (frame.topology_version() != topology_version_) {
+  const bool edits = frame.has_topology();
+  const std::uint64_t from = edits ? frame.topology().from_version() : frame.topology_version();
+  if (from != topology_version_) {
     return Fail(ApplyResult::kTopologyMismatch, why,
-                "delta for topology " + std::to_string(frame.topology_version()) + ", cache holds " +
-                    std::to_string(topology_version_));
+                "delta for topology " + std::to_string(from) + ", cache holds " + std::to_string(topology_version_));
   }
+  if (edits && !CheckTopology(frame.topology(), why)) return ApplyResult::kMalformed;
   const auto& d = frame.delta();
   if (d.position_dq_size() != 3 * d.index_gaps_size()) {
     return Fail(ApplyResult::kMalformed, why, "delta needs 3 position values per index");
   }
-  // Validate every index before touching the mesh.
+  // Indices are checked against the mesh as it will be once the edits are in.
+  // (A vertex the edits add beyond the current slots is live afterwards.)
+  std::map<std::uint32_t, bool> added;
+  if (edits) {
+    const auto& e = frame.topology().edits();
+    for (int i = 0; i < e.size(); i += (e[i] == kAddTriangle ? 6 : 2)) {
+      if (e[i] == kAddVertex) added[e[i + 1]] = true;
+      if (e[i] == kRemoveVertex) added[e[i + 1]] = false;
+    }
+  }
   scratch_indices_.clear();
   std::uint64_t index = 0;
   for (int i = 0; i < d.index_gaps_size(); ++i) {
     index = i == 0 ? d.index_gaps(0) : index + d.index_gaps(i);
-    if ((i > 0 && d.index_gaps(i) == 0) || index >= vertex_count()) {
-      return Fail(ApplyResult::kMalformed, why, "delta vertex index out of range or not increasing");
+    const auto it = index < kMaxSlots ? added.find(static_cast<std::uint32_t>(index)) : added.end();
+    const bool live_after = it != added.end() ? it->second : vertex_live(index);
+    if ((i > 0 && d.index_gaps(i) == 0) || !live_after) {
+      return Fail(ApplyResult::kMalformed, why, "delta vertex index not live, or not increasing");
     }
     scratch_indices_.push_back(static_cast<std::uint32_t>(index));
   }
+  if (edits) ApplyTopology(frame.topology());
   for (std::size_t i = 0; i < scratch_indices_.size(); ++i) {
     for (int k = 0; k < 3; ++k) {
       std::int32_t& q = q_[3 * scratch_indices_[i] + static_cast<std::size_t>(k)];
@@ -90,30 +257,52 @@ ApplyResult MeshCache::ApplyDelta(const hapsim::v1::Frame& frame, std::string* w
                                     static_cast<std::uint32_t>(d.position_dq(static_cast<int>(3 * i) + k)));
     }
   }
+  topology_version_ = frame.topology_version();
   last_seq_ = frame.seq();
   return ApplyResult::kApplied;
 }
 
 Eigen::Matrix3Xd MeshCache::Vertices_m() const {
-  Eigen::Matrix3Xd v(3, static_cast<Eigen::Index>(vertex_count()));
+  Eigen::Matrix3Xd v(3, static_cast<Eigen::Index>(vertex_slots()));
   for (std::size_t i = 0; i < q_.size(); ++i) {
     v(static_cast<Eigen::Index>(i % 3), static_cast<Eigen::Index>(i / 3)) = q_[i] * quantum_m_;
   }
   return v;
 }
 
-bool WriteObj(const std::string& path, const Eigen::Matrix3Xd& v, const std::vector<std::uint32_t>& triangles,
-              const std::vector<Part>& parts, const std::string& comment) {
+CompactMesh MeshCache::Compact() const {
+  CompactMesh out;
+  std::vector<std::uint32_t> index_of(vertex_slots(), 0);
+  out.vertices_m.resize(3, static_cast<Eigen::Index>(live_vertices_));
+  Eigen::Index n = 0;
+  for (std::size_t v = 0; v < vertex_slots(); ++v) {
+    if (!vertex_live_[v]) continue;
+    index_of[v] = static_cast<std::uint32_t>(n);
+    for (int k = 0; k < 3; ++k) out.vertices_m(k, n) = q_[3 * v + static_cast<std::size_t>(k)] * quantum_m_;
+    ++n;
+  }
+  for (std::size_t t = 0; t < triangle_slots(); ++t) {
+    if (!triangle_live_[t]) continue;
+    for (const auto v : triangles_[t]) out.triangles.push_back(index_of[v]);
+    out.triangle_parts.push_back(triangle_parts_[t]);
+  }
+  out.part_names = part_names_;
+  return out;
+}
+
+bool WriteObj(const std::string& path, const CompactMesh& mesh, const std::string& comment) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
   std::fprintf(f, "# %s\n# units: metres\n", comment.c_str());
+  const Eigen::Matrix3Xd& v = mesh.vertices_m;
   for (Eigen::Index i = 0; i < v.cols(); ++i) std::fprintf(f, "v %.9g %.9g %.9g\n", v(0, i), v(1, i), v(2, i));
-  std::vector<Part> groups = parts;
-  if (groups.empty()) groups.push_back({"mesh", 0, static_cast<std::uint32_t>(triangles.size() / 3)});
-  for (const auto& p : groups) {
-    std::fprintf(f, "o %s\n", p.name.c_str());
-    for (std::uint32_t t = p.first_triangle; t < p.first_triangle + p.triangle_count && 3 * t + 2 < triangles.size(); ++t) {
-      std::fprintf(f, "f %u %u %u\n", triangles[3 * t] + 1, triangles[3 * t + 1] + 1, triangles[3 * t + 2] + 1);
+  const std::size_t groups = std::max<std::size_t>(mesh.part_names.size(), 1);
+  for (std::size_t part = 0; part < groups; ++part) {
+    std::fprintf(f, "o %s\n", mesh.part_names.empty() ? "mesh" : mesh.part_names[part].c_str());
+    for (std::size_t t = 0; t < mesh.triangles.size() / 3; ++t) {
+      if (!mesh.part_names.empty() && (t >= mesh.triangle_parts.size() || mesh.triangle_parts[t] != part)) continue;
+      std::fprintf(f, "f %u %u %u\n", mesh.triangles[3 * t] + 1, mesh.triangles[3 * t + 1] + 1,
+                   mesh.triangles[3 * t + 2] + 1);
     }
   }
   return std::fclose(f) == 0;

@@ -1,6 +1,7 @@
 // acupuncture scene: the Scene contract (catalogue, no allocation in Step,
 // determinism, bad input), the layered puncture physics of Table 1/2, the
 // springback, and the local force model reproducing the physics force.
+#include <array>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -66,16 +67,17 @@ TEST(AcupunctureCatalogue, MakeSceneBuildsItWithLayersAndParts) {
   ASSERT_NE(scene, nullptr);
   EXPECT_EQ(scene->Name(), "acupuncture");
   EXPECT_EQ(scene->Status().layer_names, (std::vector<std::string>{"skin", "fat", "muscle"}));
-  ASSERT_EQ(scene->Parts().size(), 4u);
-  const char* names[] = {"skin", "fat", "muscle", "needle"};
-  std::uint32_t next = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    EXPECT_EQ(scene->Parts()[i].name, names[i]);
-    EXPECT_EQ(scene->Parts()[i].first_triangle, next);  // parts tile the triangle list
-    next += scene->Parts()[i].triangle_count;
-  }
-  EXPECT_EQ(next * 3, scene->Triangles().size());
-  for (auto v : scene->Triangles()) EXPECT_LT(v, scene->Vertices_m().cols());
+  const MeshTopology& topo = scene->Topology();
+  EXPECT_EQ(topo.PartNames(), (std::vector<std::string>{"skin", "fat", "muscle", "needle"}));
+  // 41 x 41 patches of 2 x 40 x 40 triangles per layer, a 22-triangle needle:
+  // every slot live, every triangle on live vertices of the displayed mesh.
+  EXPECT_EQ(topo.Vertices().LiveCount(), static_cast<std::uint32_t>(scene->Vertices_m().cols()));
+  std::array<int, 4> per_part{};
+  std::vector<std::uint16_t> parts;
+  const auto tris = topo.LiveTriangleIndices(&parts);
+  for (const auto p : parts) ++per_part[p];
+  EXPECT_EQ(per_part, (std::array<int, 4>{3200, 3200, 3200, 22}));
+  for (auto v : tris) EXPECT_TRUE(topo.Vertices().IsLive(v));
 }
 
 TEST(AcupunctureCatalogue, BadParametersAreRejectedByName) {

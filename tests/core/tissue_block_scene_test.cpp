@@ -34,10 +34,10 @@ TEST(TissueBlock, BuiltByTheSceneFactoryWithDefaults) {
   auto scene = MakeScene({"tissue_block", {}});
   ASSERT_NE(scene, nullptr);
   EXPECT_EQ(scene->Name(), "tissue_block");
-  ASSERT_EQ(scene->Parts().size(), 1u);
-  EXPECT_EQ(scene->Parts()[0].name, "tissue");
-  EXPECT_EQ(scene->Parts()[0].triangle_count * 3, scene->Triangles().size());
+  EXPECT_EQ(scene->Topology().PartNames(), std::vector<std::string>{"tissue"});
+  EXPECT_EQ(scene->Topology().Triangles().LiveCount(), 2u * 20 * 20);
   EXPECT_EQ(scene->Vertices_m().cols(), 21 * 21);
+  EXPECT_EQ(scene->Topology().Vertices().LiveCount(), 21u * 21);
   EXPECT_EQ(scene->Status().layer_names, std::vector<std::string>{"tissue"});
 }
 

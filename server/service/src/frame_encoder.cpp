@@ -37,51 +37,68 @@ void FillEvents(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::F
   state->events_sent = s.events_total;
 }
 
-}  // namespace
-
-void EncodeFrame(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::Frame* frame) {
-  frame->Clear();
-  const auto n_vertices = static_cast<std::size_t>(s.vertices_m.cols());
-  if (s.topology_version != state->topology_version || state->sent_q.size() != 3 * n_vertices) {
-    state->need_keyframe = true;
+void EncodeKeyframe(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::Frame* frame) {
+  const auto capacity = static_cast<std::size_t>(s.vertices_m.cols());
+  state->sent_q.assign(3 * capacity, 0);
+  auto* key = frame->mutable_keyframe();
+  key->set_quantum_m(state->quantum_m);
+  key->set_vertex_capacity(static_cast<std::uint32_t>(capacity));
+  key->set_triangle_capacity(static_cast<std::uint32_t>(s.triangles.size()));
+  key->mutable_positions_q()->Reserve(static_cast<int>(3 * s.vertex_slots));
+  for (std::uint32_t v = 0; v < s.vertex_slots; ++v) {
+    if (!s.vertex_live[v]) {
+      key->add_free_vertices(v);
+      for (int k = 0; k < 3; ++k) key->add_positions_q(0);
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const std::int32_t q = QuantiseCoordinate(s.vertices_m(k, static_cast<Eigen::Index>(v)), state->quantum_m);
+      state->sent_q[3 * v + static_cast<std::size_t>(k)] = q;
+      key->add_positions_q(q);
+    }
   }
-  frame->set_seq(state->next_seq++);
-  FillCommon(s, frame);
-  FillEvents(s, state, frame);
-
-  if (state->need_keyframe) {
-    state->need_keyframe = false;
-    state->topology_version = s.topology_version;
-    state->sent_q.resize(3 * n_vertices);
-    auto* key = frame->mutable_keyframe();
-    key->set_quantum_m(state->quantum_m);
-    key->mutable_positions_q()->Reserve(static_cast<int>(3 * n_vertices));
-    for (std::size_t v = 0; v < n_vertices; ++v) {
-      for (int k = 0; k < 3; ++k) {
-        const std::int32_t q = QuantiseCoordinate(s.vertices_m(k, static_cast<Eigen::Index>(v)), state->quantum_m);
-        state->sent_q[3 * v + static_cast<std::size_t>(k)] = q;
-        key->add_positions_q(q);
-      }
+  key->mutable_triangles()->Reserve(static_cast<int>(3 * s.triangle_slots));
+  for (std::uint32_t t = 0; t < s.triangle_slots; ++t) {
+    if (!s.triangle_live[t]) {
+      key->add_free_triangles(t);
+      for (int k = 0; k < 3; ++k) key->add_triangles(0);
+      key->add_triangle_parts(0);
+      continue;
     }
-    if (s.triangles) key->mutable_triangles()->Add(s.triangles->begin(), s.triangles->end());
-    if (s.parts) {
-      for (const auto& p : *s.parts) {
-        auto* part = key->add_parts();
-        part->set_name(p.name);
-        part->set_first_triangle(p.first_triangle);
-        part->set_triangle_count(p.triangle_count);
-      }
-    }
-    if (s.layer_names) {
-      for (const auto& name : *s.layer_names) key->add_layer_names(name);
-    }
-    return;
+    for (const std::uint32_t v : s.triangles[t]) key->add_triangles(v);
+    key->add_triangle_parts(s.triangle_parts[t]);
   }
+  if (s.part_names) {
+    for (const auto& name : *s.part_names) key->add_part_names(name);
+  }
+  if (s.layer_names) {
+    for (const auto& name : *s.layer_names) key->add_layer_names(name);
+  }
+}
 
+// The edits [state->topology_version, s.topology_version) from the history;
+// a vertex added here starts at q = 0 on both sides, so the position delta
+// that follows carries its absolute position.
+void EncodeTopology(const SceneSnapshot& s, const TopologyHistory& history, StreamEncoderState* state,
+                    hapsim::v1::Frame* frame) {
+  auto* topo = frame->mutable_topology();
+  topo->set_from_version(state->topology_version);
+  auto* edits = topo->mutable_edits();
+  for (std::uint64_t v = state->topology_version; v < s.topology_version; ++v) {
+    const core::TopologyEdit& e = history.At(v);
+    AppendEdit(e, edits);
+    if (e.kind == core::TopologyEdit::Kind::kAddVertex) {
+      for (int k = 0; k < 3; ++k) state->sent_q[3 * e.slot + static_cast<std::size_t>(k)] = 0;
+    }
+  }
+}
+
+void EncodePositions(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::Frame* frame) {
   auto* delta = frame->mutable_delta();
   std::uint32_t previous_index = 0;
   bool first = true;
-  for (std::size_t v = 0; v < n_vertices; ++v) {
+  for (std::uint32_t v = 0; v < s.vertex_slots; ++v) {
+    if (!s.vertex_live[v]) continue;
     std::int32_t q[3];
     bool moved = false;
     for (int k = 0; k < 3; ++k) {
@@ -89,10 +106,9 @@ void EncodeFrame(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::
       moved |= q[k] != state->sent_q[3 * v + static_cast<std::size_t>(k)];
     }
     if (!moved) continue;
-    const auto index = static_cast<std::uint32_t>(v);
-    delta->add_index_gaps(first ? index : index - previous_index);
+    delta->add_index_gaps(first ? v : v - previous_index);
     first = false;
-    previous_index = index;
+    previous_index = v;
     for (int k = 0; k < 3; ++k) {
       std::int32_t& sent = state->sent_q[3 * v + static_cast<std::size_t>(k)];
       // 64-bit difference, then narrowed: saturated coordinates stay in range.
@@ -100,6 +116,38 @@ void EncodeFrame(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::
       sent = q[k];
     }
   }
+}
+
+}  // namespace
+
+void AppendEdit(const core::TopologyEdit& e, google::protobuf::RepeatedField<std::uint32_t>* out) {
+  out->Add(static_cast<std::uint32_t>(e.kind));
+  out->Add(e.slot);
+  if (e.kind == core::TopologyEdit::Kind::kAddTriangle) {
+    out->Add(e.part);
+    for (const std::uint32_t v : e.vertices) out->Add(v);
+  }
+}
+
+void EncodeFrame(const SceneSnapshot& s, const TopologyHistory& history, StreamEncoderState* state,
+                 hapsim::v1::Frame* frame) {
+  frame->Clear();
+  const bool topology_changed = s.topology_version != state->topology_version;
+  if (state->sent_q.size() != 3 * static_cast<std::size_t>(s.vertices_m.cols()) ||
+      (topology_changed && !history.Covers(state->topology_version, s.topology_version))) {
+    state->need_keyframe = true;
+  }
+  frame->set_seq(state->next_seq++);
+  FillCommon(s, frame);
+  FillEvents(s, state, frame);
+  if (state->need_keyframe) {
+    state->need_keyframe = false;
+    EncodeKeyframe(s, state, frame);
+  } else {
+    if (topology_changed) EncodeTopology(s, history, state, frame);
+    EncodePositions(s, state, frame);
+  }
+  state->topology_version = s.topology_version;
 }
 
 }  // namespace hapsim::service

@@ -31,7 +31,10 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
       scene_(std::move(scene)),
       port_(std::move(port)),
       ownership_(pose_timeout_ns_),
-      snapshots_(scene_ ? static_cast<std::size_t>(scene_->Vertices_m().cols()) : 0, kRecentEvents) {
+      snapshots_(scene_ ? SnapshotRing::Sizes{static_cast<std::size_t>(scene_->Vertices_m().cols()),
+                                              scene_->Topology().Triangles().Capacity(), kRecentEvents,
+                                              scene_->Topology().Log().Capacity()}
+                        : SnapshotRing::Sizes{}) {
   if (!scene_) throw std::invalid_argument("session needs a scene");
   if (!port_) throw std::invalid_argument("session needs a port");
   if (!(config_.tick_period_s > 0.0 && config_.tick_period_s <= 0.1)) {
@@ -43,6 +46,8 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
   if (!(config_.pose_slack_s >= 0.0 && config_.pose_slack_s <= config_.pose_timeout_s)) {
     throw std::invalid_argument("pose slack must be in [0, pose timeout]");
   }
+  part_names_ = std::make_shared<const std::vector<std::string>>(scene_->Topology().PartNames());
+  layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
   ticks_per_frame_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(1.0 / (config_.frame_rate_hz * config_.tick_period_s))));
   PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
@@ -145,18 +150,8 @@ void Session::PublishSnapshot(const TickInput& in) {
   s->id = ++snapshot_id_;
   s->sim_time_s = scene_->SimTime_s();
   s->paused = in.paused;
-  s->vertices_m = scene_->Vertices_m();  // same size as the buffer: no allocation
-  s->topology_version = scene_->TopologyVersion();
-  if (s->topology_version != shared_topology_version_ || !triangles_) {
-    // Topology changed (rare: cuts, remeshing): share fresh copies with every
-    // stream from now on. The only allocation a tick may make.
-    triangles_ = std::make_shared<const std::vector<std::uint32_t>>(scene_->Triangles());
-    parts_ = std::make_shared<const std::vector<core::SurfacePart>>(scene_->Parts());
-    layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
-    shared_topology_version_ = s->topology_version;
-  }
-  s->triangles = triangles_;
-  s->parts = parts_;
+  CopyMesh(scene_->Vertices_m(), scene_->Topology(), topology_taken_.load(std::memory_order_acquire), s.get());
+  s->part_names = part_names_;
   s->layer_names = layer_names_;
   s->tool = last_pose_.tool;
   s->tool.valid = in.tool.valid;

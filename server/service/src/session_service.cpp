@@ -168,8 +168,22 @@ Status SessionServiceImpl::GetSnapshot(grpc::ServerContext*, const hapsim::v1::S
     out->set_session_id(s->id());
     out->set_sim_time_s(snap->sim_time_s);
     out->set_topology_version(snap->topology_version);
-    out->mutable_positions_m()->Add(snap->vertices_m.data(), snap->vertices_m.data() + snap->vertices_m.size());
-    if (snap->triangles) out->mutable_triangles()->Add(snap->triangles->begin(), snap->triangles->end());
+    // Compacted: live vertices in slot order, triangles renumbered to them.
+    std::vector<std::uint32_t> index_of(snap->vertex_slots, 0);
+    std::uint32_t live = 0;
+    for (std::uint32_t v = 0; v < snap->vertex_slots; ++v) {
+      if (!snap->vertex_live[v]) continue;
+      index_of[v] = live++;
+      for (int k = 0; k < 3; ++k) out->add_positions_m(snap->vertices_m(k, static_cast<Eigen::Index>(v)));
+    }
+    for (std::uint32_t t = 0; t < snap->triangle_slots; ++t) {
+      if (!snap->triangle_live[t]) continue;
+      for (const std::uint32_t v : snap->triangles[t]) out->add_triangles(index_of[v]);
+      out->add_triangle_parts(snap->triangle_parts[t]);
+    }
+    if (snap->part_names) {
+      for (const auto& name : *snap->part_names) out->add_part_names(name);
+    }
   });
 }
 

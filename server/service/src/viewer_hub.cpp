@@ -60,15 +60,21 @@ void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
     const bool is_new = session->TakeSnapshot(&fresh);
     std::shared_ptr<const SceneSnapshot> latest;
     std::shared_ptr<const Links> links;
+    std::shared_ptr<TopologyHistory> history;
     {
       std::lock_guard lock(mutex_);
       Entry& e = EntryLocked(session);
       if (is_new) e.latest = std::move(fresh);
       latest = e.latest;
       links = e.links;
+      history = e.history;
     }
     if (!latest) continue;
-    for (const auto& link : *links) link->Offer(latest, now_ns);  // outside the lock: may run a reaction inline
+    if (is_new) {
+      history->Absorb(*latest);
+      session->MarkTopologyTaken(history->End());
+    }
+    for (const auto& link : *links) link->Offer(latest, *history, now_ns);  // outside the lock: may run a reaction inline
   }
   // Sessions closed since their stream joined (Add after the close): end
   // those streams now and forget the session.

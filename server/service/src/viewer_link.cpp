@@ -16,7 +16,8 @@ void ViewerLink::Attach(Stream* stream) {
   stream_ = stream;
 }
 
-void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns) {
+void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
+                       std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return;
   const bool window_full = ack_window_ > 0 && encoder_.next_seq - acked_frames_ >= ack_window_;
@@ -24,7 +25,7 @@ void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std
     ++skipped_;
     return;
   }
-  EncodeFrame(*snapshot, &encoder_, &frame_);
+  EncodeFrame(*snapshot, history, &encoder_, &frame_);
   last_snapshot_id_ = snapshot->id;
   last_send_ns_ = now_ns;
   write_in_flight_ = true;

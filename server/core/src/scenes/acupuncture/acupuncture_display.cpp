@@ -18,12 +18,24 @@ void AcupunctureScene::BuildDisplay() {
   const int g = params_.patch_grid_nodes;
   patch_vertices_ = g * g;
   const int total_patch = kNumTissueLayers * patch_vertices_;
+  // Vertex slots: the three patches (layer by layer), then the needle; parts
+  // are the layer names and "needle". Topology never changes.
+  std::vector<std::string> part_names;
+  for (const auto& l : params_.layers) part_names.push_back(l.name);
+  part_names.push_back("needle");
+  const auto needle_part = static_cast<std::uint16_t>(kNumTissueLayers);
+  const auto patch_triangles = static_cast<std::uint32_t>(2 * (g - 1) * (g - 1));
+  topology_ = MeshTopology({.vertex_capacity = static_cast<std::uint32_t>(total_patch + kNeedleVertices),
+                            .triangle_capacity = kNumTissueLayers * patch_triangles + 4 * kNeedleSides - 2,
+                            .part_names = part_names,
+                            .log_capacity = 0});
+  for (int v = 0; v < total_patch + kNeedleVertices; ++v) topology_.AddVertex();
   patch_rest_W_m_.resize(3, total_patch);
   patch_dir_W_.resize(3, total_patch);
   const Eigen::Vector3d c = body_.Def().center_W_m;
   for (int layer = 0; layer < kNumTissueLayers; ++layer) {
-    const std::uint32_t first_triangle = static_cast<std::uint32_t>(triangles_.size() / 3);
     const int base = layer * patch_vertices_;
+    const auto part = static_cast<std::uint16_t>(layer);
     for (int iy = 0; iy < g; ++iy)
       for (int ix = 0; ix < g; ++ix) {
         const double x = params_.patch_size_m * (static_cast<double>(ix) / (g - 1) - 0.5);
@@ -36,23 +48,22 @@ void AcupunctureScene::BuildDisplay() {
       for (int ix = 0; ix + 1 < g; ++ix) {
         const auto v00 = static_cast<std::uint32_t>(base + ix + g * iy);
         const auto v10 = v00 + 1, v01 = v00 + static_cast<std::uint32_t>(g), v11 = v01 + 1;
-        triangles_.insert(triangles_.end(), {v00, v10, v11, v00, v11, v01});  // outward (+z) winding
+        topology_.AddTriangle(v00, v10, v11, part);  // outward (+z) winding
+        topology_.AddTriangle(v00, v11, v01, part);
       }
-    parts_.push_back({params_.layers[static_cast<std::size_t>(layer)].name, first_triangle,
-                      static_cast<std::uint32_t>(triangles_.size() / 3) - first_triangle});
   }
   // Needle: point, a ring where the taper ends, a ring at the back, a cap.
   const auto tip = static_cast<std::uint32_t>(total_patch);
-  const std::uint32_t first_needle = static_cast<std::uint32_t>(triangles_.size() / 3);
   for (std::uint32_t k = 0; k < kNeedleSides; ++k) {
     const std::uint32_t a0 = tip + 1 + k, a1 = tip + 1 + (k + 1) % kNeedleSides;
     const std::uint32_t b0 = a0 + kNeedleSides, b1 = a1 + kNeedleSides;
-    triangles_.insert(triangles_.end(), {tip, a1, a0, a0, a1, b1, a0, b1, b0});
+    topology_.AddTriangle(tip, a1, a0, needle_part);
+    topology_.AddTriangle(a0, a1, b1, needle_part);
+    topology_.AddTriangle(a0, b1, b0, needle_part);
   }
   for (std::uint32_t k = 1; k + 1 < kNeedleSides; ++k)
-    triangles_.insert(triangles_.end(), {tip + 1 + kNeedleSides, tip + 1 + kNeedleSides + k,
-                                         tip + 2 + kNeedleSides + k});
-  parts_.push_back({"needle", first_needle, static_cast<std::uint32_t>(triangles_.size() / 3) - first_needle});
+    topology_.AddTriangle(tip + 1 + kNeedleSides, tip + 1 + kNeedleSides + k, tip + 2 + kNeedleSides + k, needle_part);
+  topology_.Seal();
   for (auto& near : patch_near_net_) near.reserve(static_cast<std::size_t>(patch_vertices_));
   for (auto& q : patch_near_q_) q.reserve(static_cast<std::size_t>(patch_vertices_));
   vertices_m_.resize(3, total_patch + kNeedleVertices);

@@ -90,16 +90,22 @@ TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
     throw std::invalid_argument(msg.str());
   }
 
+  // One vertex slot per node (slot i = node i), two triangles per cell.
   const int n = params_.grid_nodes;
-  triangles_.reserve(static_cast<std::size_t>(6 * (n - 1) * (n - 1)));
+  topology_ = MeshTopology({.vertex_capacity = static_cast<std::uint32_t>(n * n),
+                            .triangle_capacity = static_cast<std::uint32_t>(2 * (n - 1) * (n - 1)),
+                            .part_names = {"tissue"},
+                            .log_capacity = 0});  // never edited
+  for (int i = 0; i < n * n; ++i) topology_.AddVertex();
   for (int r = 0; r + 1 < n; ++r) {
     for (int c = 0; c + 1 < n; ++c) {
       const auto a = static_cast<std::uint32_t>(r * n + c), b = a + 1,
                  d = a + static_cast<std::uint32_t>(n), e = d + 1;
-      triangles_.insert(triangles_.end(), {a, b, e, a, e, d});  // counter-clockwise seen from +z
+      topology_.AddTriangle(a, b, e, 0);  // counter-clockwise seen from +z
+      topology_.AddTriangle(a, e, d, 0);
     }
   }
-  parts_.push_back({"tissue", 0, static_cast<std::uint32_t>(triangles_.size() / 3)});
+  topology_.Seal();
   status_.layer_names = {"tissue"};
 }
 

@@ -1,9 +1,11 @@
-// Builds one viewer stream's frames from session snapshots: a keyframe first
-// (and after any topology change or resync request), then deltas holding only
-// the vertices whose quantised position changed since the previous frame *of
-// this stream*. Because a delta is always relative to what this stream last
-// sent, skipped (coalesced) snapshots never break the chain and seqs stay
-// contiguous.
+// Builds one viewer stream's frames from session snapshots: a keyframe first,
+// then deltas. A delta carries the topology edits since the version this
+// stream last sent (from the session's TopologyHistory) and then only the
+// live vertices whose quantised position changed since the previous frame
+// *of this stream*. Because a delta is always relative to what this stream
+// last sent, skipped (coalesced) snapshots never break the chain and seqs
+// stay contiguous. A keyframe is sent again only when the history no longer
+// holds the stream's version (it wrapped, or the scene was reset).
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -11,6 +13,7 @@
 #include <vector>
 
 #include "hapsim/service/scene_snapshot.h"
+#include "hapsim/service/topology_history.h"
 #include "hapsim/v1/viewer.pb.h"
 
 namespace hapsim::service {
@@ -20,7 +23,7 @@ struct StreamEncoderState {
   bool need_keyframe = true;
   std::uint64_t next_seq = 0;
   std::uint64_t topology_version = 0;
-  std::vector<std::int32_t> sent_q;  // 3 per vertex: what the viewer holds
+  std::vector<std::int32_t> sent_q;  // 3 per vertex slot: what the viewer holds
   std::uint64_t events_sent = 0;     // SceneSnapshot::events_total already sent
 };
 
@@ -34,7 +37,14 @@ inline std::int32_t QuantiseCoordinate(double x_m, double quantum_m) {
   return static_cast<std::int32_t>(q);
 }
 
-// Fills *frame (cleared first) and advances *state.
-void EncodeFrame(const SceneSnapshot& snapshot, StreamEncoderState* state, hapsim::v1::Frame* frame);
+// Fills *frame (cleared first) and advances *state. `history` must have
+// absorbed the snapshot (it ends at or after snapshot.topology_version).
+void EncodeFrame(const SceneSnapshot& snapshot, const TopologyHistory& history, StreamEncoderState* state,
+                 hapsim::v1::Frame* frame);
+
+// The packed edit stream of TopologyDelta.edits (docs/protocol.md):
+//   add vertex [0, slot]; remove vertex [1, slot];
+//   add triangle [2, slot, part, a, b, c]; remove triangle [3, slot].
+void AppendEdit(const core::TopologyEdit& edit, google::protobuf::RepeatedField<std::uint32_t>* out);
 
 }  // namespace hapsim::service

@@ -1,13 +1,16 @@
 // What a session hands to the frame pump at the viewer frame rate: a copy of
 // the displayed scene at one instant. Immutable once published; shared by
-// every viewer stream of the session (topology arrays are shared pointers and
-// only replaced when the topology version changes).
+// every viewer stream of the session. Every array is sized at session
+// creation (the scene's vertex and triangle capacities), so publishing one
+// copies and never allocates.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "hapsim/core/mesh/topology_log.h"
 #include "hapsim/core/scenes/scene.h"
 
 namespace hapsim::service {
@@ -16,11 +19,28 @@ struct SceneSnapshot {
   std::uint64_t id = 0;  // increases by one per snapshot of this session
   double sim_time_s = 0.0;
   bool paused = false;
-  Eigen::Matrix3Xd vertices_m;  // 3 x n
+
+  // The mesh in slots. Only slots below vertex_slots / triangle_slots and
+  // live are meaningful.
+  Eigen::Matrix3Xd vertices_m;  // 3 x vertex capacity [m]
+  std::uint32_t vertex_slots = 0;
+  std::uint32_t triangle_slots = 0;
+  std::vector<std::uint8_t> vertex_live;                   // (vertex capacity)
+  std::vector<std::array<std::uint32_t, 3>> triangles;     // (triangle capacity)
+  std::vector<std::uint16_t> triangle_parts;               // (triangle capacity)
+  std::vector<std::uint8_t> triangle_live;                 // (triangle capacity)
   std::uint64_t topology_version = 0;
-  std::shared_ptr<const std::vector<std::uint32_t>> triangles;
-  std::shared_ptr<const std::vector<core::SurfacePart>> parts;
-  std::shared_ptr<const std::vector<std::string>> layer_names;
+  // The topology arrays above hold this version (a reused buffer is
+  // re-copied only when the topology changed since it was last filled).
+  std::uint64_t topology_arrays_version = ~std::uint64_t{0};
+  // Edits [edits_from_version, topology_version) of the scene's log: the
+  // ones the frame pump has not taken yet. If edits_from_version is above
+  // what the pump has, edits were lost (log wrapped, reset): keyframes.
+  std::uint64_t edits_from_version = 0;
+  std::vector<core::TopologyEdit> topology_edits;          // reserved to the log capacity
+  std::shared_ptr<const std::vector<std::string>> part_names;   // fixed per session
+  std::shared_ptr<const std::vector<std::string>> layer_names;  // fixed per session
+
   core::ToolInput tool;
   Eigen::Vector3d tool_force_W_N = Eigen::Vector3d::Zero();
   core::ContactState contact = core::ContactState::kFree;
@@ -31,5 +51,12 @@ struct SceneSnapshot {
   std::vector<core::SceneEvent> recent_events;
   std::uint64_t events_total = 0;
 };
+
+// Copies a scene's mesh into a snapshot buffer sized for it (SnapshotRing):
+// positions, the slot arrays (only if the buffer holds an older topology
+// version) and the log's edits from `taken_version` on (or from the log's
+// oldest, if it no longer reaches back that far). Never allocates.
+void CopyMesh(const Eigen::Matrix3Xd& vertices_m, const core::MeshTopology& topology, std::uint64_t taken_version,
+              SceneSnapshot* snapshot);
 
 }  // namespace hapsim::service

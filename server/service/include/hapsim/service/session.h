@@ -110,8 +110,10 @@ class Session : public TickTask {
   void SetTickObserver(std::function<void(const TickInput&)> observer) { tick_observer_ = std::move(observer); }
   const core::Scene& scene() const { return *scene_; }  // only while no tick runs
 
-  // Frame pump only.
+  // Frame pump only. After taking a snapshot's topology edits, the pump says
+  // up to which version it has them, so later snapshots carry only newer ones.
   bool TakeSnapshot(std::shared_ptr<const SceneSnapshot>* out) { return snapshot_outbox_.TakeIfNew(out); }
+  void MarkTopologyTaken(std::uint64_t version) { topology_taken_.store(version, std::memory_order_release); }
 
   // Any thread.
   void RequestPause(bool pause) { paused_.store(pause); }
@@ -152,10 +154,11 @@ class Session : public TickTask {
   std::uint64_t ticks_per_frame_ = 16;
   ForceModelMessage force_message_;
   SnapshotRing snapshots_;
-  std::shared_ptr<const std::vector<std::uint32_t>> triangles_;
-  std::shared_ptr<const std::vector<core::SurfacePart>> parts_;
-  std::shared_ptr<const std::vector<std::string>> layer_names_;
-  std::uint64_t shared_topology_version_ = ~0ull;
+  std::shared_ptr<const std::vector<std::string>> part_names_;   // fixed at build
+  std::shared_ptr<const std::vector<std::string>> layer_names_;  // fixed at build
+  // The topology version up to which the frame pump has taken the edits
+  // (written by the pump, read by the tick): snapshots carry only newer ones.
+  std::atomic<std::uint64_t> topology_taken_{0};
 };
 
 }  // namespace hapsim::service

@@ -18,12 +18,21 @@ class SnapshotRing {
  public:
   static constexpr std::size_t kBuffers = 8;  // mailbox (3) + latest (1) + readers in flight
 
-  // Each buffer sized for `vertices` vertices and `events` recent events.
-  SnapshotRing(std::size_t vertices, std::size_t events) {
+  struct Sizes {
+    std::size_t vertices = 0, triangles = 0;  // the scene's slot capacities
+    std::size_t events = 0;                   // recent events carried
+    std::size_t edits = 0;                    // topology edits carried (the log capacity)
+  };
+  explicit SnapshotRing(const Sizes& sizes) {
     for (auto& b : buffers_) {
       b = std::make_shared<SceneSnapshot>();
-      b->vertices_m.resize(3, static_cast<Eigen::Index>(vertices));
-      b->recent_events.reserve(events);
+      b->vertices_m.setZero(3, static_cast<Eigen::Index>(sizes.vertices));
+      b->vertex_live.assign(sizes.vertices, 0);
+      b->triangles.assign(sizes.triangles, {0, 0, 0});
+      b->triangle_parts.assign(sizes.triangles, 0);
+      b->triangle_live.assign(sizes.triangles, 0);
+      b->recent_events.reserve(sizes.events);
+      b->topology_edits.reserve(sizes.edits);
     }
   }
 

@@ -17,6 +17,7 @@
 
 #include "hapsim/service/scene_snapshot.h"
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/topology_history.h"
 #include "hapsim/service/viewer_link.h"
 
 namespace hapsim::service {
@@ -32,9 +33,10 @@ class ViewerHub final : public SessionListener {
   // before the first).
   std::shared_ptr<const SceneSnapshot> LatestSnapshot(const Session& session) const;
 
-  // Frame pump, one pass: takes each session's new snapshot, offers the
-  // newest to its streams, and ends the streams of sessions no longer in
-  // `sessions` (closed while a stream was joining).
+  // Frame pump, one pass: takes each session's new snapshot (and its
+  // topology edits into the session's history), offers the newest to its
+  // streams, and ends the streams of sessions no longer in `sessions`
+  // (closed while a stream was joining).
   void Pump(const SessionTable& sessions, std::int64_t now_ns);
 
   // SessionListener: ends the session's streams (NOT_FOUND "closed", or
@@ -47,6 +49,9 @@ class ViewerHub final : public SessionListener {
     std::shared_ptr<Session> session;            // keeps the key's address from being reused
     std::shared_ptr<const SceneSnapshot> latest;
     std::shared_ptr<const Links> links = std::make_shared<const Links>();  // copy-on-write
+    // The session's topology edits as taken from its snapshots; written and
+    // read on the frame pump thread only.
+    std::shared_ptr<TopologyHistory> history = std::make_shared<TopologyHistory>();
   };
   Entry& EntryLocked(const std::shared_ptr<Session>& session);
   static void SetViewerCount(Entry& e);

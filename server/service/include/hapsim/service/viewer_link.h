@@ -31,8 +31,10 @@ class ViewerLink {
   // ack_window: frames that may be unacknowledged at once (0: no limit).
   ViewerLink(std::string name, double max_rate_hz, double quantum_m, std::uint32_t ack_window);
 
-  // Frame pump: send this snapshot if the stream is free and due.
-  void Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, std::int64_t now_ns);
+  // Frame pump: send this snapshot if the stream is free and due (topology
+  // edits from the session's history, which has absorbed the snapshot).
+  void Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
+             std::int64_t now_ns);
   // Session closed or server stopping: end the stream with this status.
   void Close(const grpc::Status& status);
 

@@ -25,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/core/mesh/mesh_topology.h"
 #include "hapsim/core/scenes/param_table.h"
 
 namespace hapsim::core {
@@ -38,14 +39,6 @@ struct ToolInput {
   Eigen::Quaterniond orientation_W = Eigen::Quaterniond::Identity();
   Eigen::Vector3d velocity_W_m_per_s = Eigen::Vector3d::Zero();
   std::uint32_t buttons = 0;
-};
-
-// A named run of triangles in Triangles() (e.g. "skin", "fat", "needle"), so
-// viewers can colour layers. Parts tile the triangle list in order.
-struct SurfacePart {
-  std::string name;
-  std::uint32_t first_triangle = 0;
-  std::uint32_t triangle_count = 0;
 };
 
 enum class SceneEventKind : std::uint8_t { kContactBegin = 0, kContactEnd = 1, kPuncture = 2, kCut = 3, kReset = 4 };
@@ -76,13 +69,13 @@ class Scene {
   virtual void Reset() = 0;
 
   virtual double SimTime_s() const = 0;
-  // Displayed mesh: vertex positions (3 x n) [m] and triangles (3 indices each).
+  // Displayed mesh: one column per vertex slot [m] (3 x vertex capacity;
+  // the column count never changes after construction, and only the slots
+  // live in Topology() mean anything), and its connectivity in stable slots
+  // with parts and the log of every edit (cuts, punctures that remesh,
+  // resets), from which viewers are updated incrementally.
   virtual const Eigen::Matrix3Xd& Vertices_m() const = 0;
-  virtual const std::vector<std::uint32_t>& Triangles() const = 0;
-  virtual const std::vector<SurfacePart>& Parts() const = 0;
-  // Bumped whenever Triangles() or the vertex count changes (cuts, punctures
-  // that remesh, resets); viewers resync on a mismatch.
-  virtual std::uint64_t TopologyVersion() const = 0;
+  virtual const MeshTopology& Topology() const = 0;
 
   // What the device should render until the next tick, and the force the
   // tissue exerts on the tool at this tick [N] (for plots and the bridge's

@@ -60,9 +60,7 @@ class AcupunctureScene final : public Scene {
   void Reset() override;
   double SimTime_s() const override { return t_s_; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return vertices_m_; }
-  const std::vector<std::uint32_t>& Triangles() const override { return triangles_; }
-  const std::vector<SurfacePart>& Parts() const override { return parts_; }
-  std::uint64_t TopologyVersion() const override { return 1; }
+  const MeshTopology& Topology() const override { return topology_; }
   LocalForceModel ForceModel() const override { return force_model_; }
   Eigen::Vector3d ToolForce_W_N() const override { return force_W_N_; }
   std::span<const SceneEvent> Events() const override { return events_.View(); }
@@ -136,8 +134,7 @@ class AcupunctureScene final : public Scene {
   // fixed while the net stays placed.
   std::array<std::vector<double>, kNumTissueLayers> patch_near_q_;
   Eigen::Matrix3Xd vertices_m_;
-  std::vector<std::uint32_t> triangles_;
-  std::vector<SurfacePart> parts_;
+  MeshTopology topology_;
 };
 
 // MakeAcupunctureScene(params) is declared in scene_builders.h.

@@ -51,9 +51,7 @@ class TissueBlockScene final : public Scene {
   void Reset() override;
   double SimTime_s() const override { return state_.t_s; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return state_.x_m; }
-  const std::vector<std::uint32_t>& Triangles() const override { return triangles_; }
-  const std::vector<SurfacePart>& Parts() const override { return parts_; }
-  std::uint64_t TopologyVersion() const override { return 1; }
+  const MeshTopology& Topology() const override { return topology_; }
   LocalForceModel ForceModel() const override { return force_model_; }
   Eigen::Vector3d ToolForce_W_N() const override { return tool_force_W_N_; }
   std::span<const SceneEvent> Events() const override { return events_.View(); }
@@ -99,8 +97,7 @@ class TissueBlockScene final : public Scene {
   std::array<std::int32_t, 4> loaded_nodes_{};  // nodes carrying contact f_ext
   bool was_in_contact_ = false;
 
-  std::vector<std::uint32_t> triangles_;
-  std::vector<SurfacePart> parts_;
+  MeshTopology topology_;  // the grid's nodes and triangles; never edited
   LocalForceModel force_model_;
   Eigen::Vector3d tool_force_W_N_ = Eigen::Vector3d::Zero();
   EventLog events_;

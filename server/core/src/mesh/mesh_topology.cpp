@@ -1,0 +1,102 @@
+#include "hapsim/core/mesh/mesh_topology.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "hapsim/core/assert.h"
+
+namespace hapsim::core {
+
+MeshTopology::MeshTopology(const MeshTopologyDef& def)
+    : vertices_(def.vertex_capacity),
+      triangles_(def.triangle_capacity),
+      tri_vertices_(def.triangle_capacity, std::array<std::uint32_t, 3>{0, 0, 0}),
+      tri_part_(def.triangle_capacity, 0),
+      vertex_refs_(def.vertex_capacity, 0),
+      part_names_(def.part_names),
+      log_(def.log_capacity),
+      sealed_vertices_(def.vertex_capacity),
+      sealed_triangles_(def.triangle_capacity),
+      sealed_tri_vertices_(tri_vertices_),
+      sealed_tri_part_(tri_part_),
+      sealed_vertex_refs_(vertex_refs_) {
+  if (part_names_.size() > 0xffff) throw std::invalid_argument("MeshTopology: more than 65535 parts");
+  if (def.vertex_capacity == kNoSlot || def.triangle_capacity == kNoSlot)
+    throw std::invalid_argument("MeshTopology: capacity too large");
+}
+
+std::uint32_t MeshTopology::AddVertex() {
+  const std::uint32_t v = vertices_.Alloc();
+  if (v == kNoSlot) {
+    ++capacity_failures_;
+    return kNoSlot;
+  }
+  vertex_refs_[v] = 0;
+  log_.Push({TopologyEdit::Kind::kAddVertex, 0, v, {}});
+  return v;
+}
+
+bool MeshTopology::RemoveVertex(std::uint32_t v) {
+  HAPSIM_DEMAND(vertices_.IsLive(v), "MeshTopology::RemoveVertex: the vertex is not live");
+  if (vertex_refs_[v] != 0) return false;
+  vertices_.Free(v);
+  log_.Push({TopologyEdit::Kind::kRemoveVertex, 0, v, {}});
+  return true;
+}
+
+std::uint32_t MeshTopology::AddTriangle(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint16_t part) {
+  HAPSIM_DEMAND(vertices_.IsLive(a) && vertices_.IsLive(b) && vertices_.IsLive(c),
+                "MeshTopology::AddTriangle: a vertex is not live");
+  HAPSIM_DEMAND(a != b && b != c && a != c, "MeshTopology::AddTriangle: vertices must be distinct");
+  HAPSIM_DEMAND(part < part_names_.size(), "MeshTopology::AddTriangle: no such part");
+  const std::uint32_t t = triangles_.Alloc();
+  if (t == kNoSlot) {
+    ++capacity_failures_;
+    return kNoSlot;
+  }
+  tri_vertices_[t] = {a, b, c};
+  tri_part_[t] = part;
+  ++vertex_refs_[a];
+  ++vertex_refs_[b];
+  ++vertex_refs_[c];
+  log_.Push({TopologyEdit::Kind::kAddTriangle, part, t, {a, b, c}});
+  return t;
+}
+
+void MeshTopology::RemoveTriangle(std::uint32_t t) {
+  HAPSIM_DEMAND(triangles_.IsLive(t), "MeshTopology::RemoveTriangle: the triangle is not live");
+  triangles_.Free(t);
+  for (const std::uint32_t v : tri_vertices_[t]) --vertex_refs_[v];
+  log_.Push({TopologyEdit::Kind::kRemoveTriangle, 0, t, {}});
+}
+
+void MeshTopology::Seal() {
+  sealed_vertices_.CopyFrom(vertices_);
+  sealed_triangles_.CopyFrom(triangles_);
+  std::copy(tri_vertices_.begin(), tri_vertices_.end(), sealed_tri_vertices_.begin());
+  std::copy(tri_part_.begin(), tri_part_.end(), sealed_tri_part_.begin());
+  std::copy(vertex_refs_.begin(), vertex_refs_.end(), sealed_vertex_refs_.begin());
+  log_.Restart();
+}
+
+void MeshTopology::Reset() {
+  vertices_.CopyFrom(sealed_vertices_);
+  triangles_.CopyFrom(sealed_triangles_);
+  std::copy(sealed_tri_vertices_.begin(), sealed_tri_vertices_.end(), tri_vertices_.begin());
+  std::copy(sealed_tri_part_.begin(), sealed_tri_part_.end(), tri_part_.begin());
+  std::copy(sealed_vertex_refs_.begin(), sealed_vertex_refs_.end(), vertex_refs_.begin());
+  log_.Restart();
+}
+
+std::vector<std::uint32_t> MeshTopology::LiveTriangleIndices(std::vector<std::uint16_t>* parts) const {
+  std::vector<std::uint32_t> out;
+  if (parts) parts->clear();
+  for (std::uint32_t t = 0; t < triangles_.HighWater(); ++t) {
+    if (!triangles_.IsLive(t)) continue;
+    out.insert(out.end(), tri_vertices_[t].begin(), tri_vertices_[t].end());
+    if (parts) parts->push_back(tri_part_[t]);
+  }
+  return out;
+}
+
+}  // namespace hapsim::core
