@@ -57,6 +57,7 @@ inline MsmDef IrregularNetDef() {
   d.anchor_k_N_per_m = {50.0};
   d.fixed = {1, 0, 0, 0, 0};
   d.spring_capacity = 10;
+  d.max_node_degree = 6;
   return d;
 }
 

@@ -8,25 +8,8 @@ namespace hapsim::core {
 
 LocalRegion MakeLocalRegion(const MsmModel& m) {
   const auto n = static_cast<std::size_t>(m.num_nodes);
-  const auto s = static_cast<std::size_t>(m.NumSprings());
   const auto cap = static_cast<std::size_t>(m.spring_capacity);
   LocalRegion r;
-  r.adjacency_start.assign(n + 1, 0);
-  for (std::size_t k = 0; k < s; ++k) {
-    ++r.adjacency_start[static_cast<std::size_t>(m.spring_i[k]) + 1];
-    ++r.adjacency_start[static_cast<std::size_t>(m.spring_j[k]) + 1];
-  }
-  for (std::size_t i = 0; i < n; ++i) r.adjacency_start[i + 1] += r.adjacency_start[i];
-  r.adjacency.resize(2 * s);
-  r.node_springs.resize(2 * s);
-  std::vector<std::int32_t> fill(r.adjacency_start.begin(), r.adjacency_start.end() - 1);
-  for (std::size_t k = 0; k < s; ++k) {
-    const auto i = static_cast<std::size_t>(m.spring_i[k]), j = static_cast<std::size_t>(m.spring_j[k]);
-    r.adjacency[static_cast<std::size_t>(fill[i])] = m.spring_j[k];
-    r.node_springs[static_cast<std::size_t>(fill[i]++)] = static_cast<std::int32_t>(k);
-    r.adjacency[static_cast<std::size_t>(fill[j])] = m.spring_i[k];
-    r.node_springs[static_cast<std::size_t>(fill[j]++)] = static_cast<std::int32_t>(k);
-  }
   r.active_nodes.reserve(n);
   r.touched_nodes.reserve(n);
   r.springs.reserve(cap);
@@ -43,9 +26,9 @@ void CollectRegion(const MsmModel& m, LocalRegion& r) {
   r.springs.clear();
   r.touched_nodes.clear();
   for (std::int32_t i : r.active_nodes) {
-    const auto ui = static_cast<std::size_t>(i);
-    for (std::int32_t e = r.adjacency_start[ui]; e < r.adjacency_start[ui + 1]; ++e) {
-      const auto s = static_cast<std::size_t>(r.node_springs[static_cast<std::size_t>(e)]);
+    const std::int32_t* springs = m.SpringsOf(i);
+    for (std::int32_t e = 0; e < m.DegreeOf(i); ++e) {
+      const auto s = static_cast<std::size_t>(springs[e]);
       if (!r.spring_mark[s]) {
         r.spring_mark[s] = 1;
         r.springs.push_back(static_cast<std::int32_t>(s));
@@ -81,9 +64,10 @@ void SelectLocalRegion(const MsmModel& m, std::int32_t seed, std::int32_t max_ho
     const std::int32_t i = r.queue[head];
     const std::int32_t h = r.hops[static_cast<std::size_t>(i)];
     if (h >= max_hops) continue;
-    const auto ui = static_cast<std::size_t>(i);
-    for (std::int32_t e = r.adjacency_start[ui]; e < r.adjacency_start[ui + 1]; ++e) {
-      const auto j = static_cast<std::size_t>(r.adjacency[static_cast<std::size_t>(e)]);
+    const std::int32_t* springs = m.SpringsOf(i);
+    for (std::int32_t e = 0; e < m.DegreeOf(i); ++e) {
+      const auto s = static_cast<std::size_t>(springs[e]);
+      const auto j = static_cast<std::size_t>(m.spring_i[s] == i ? m.spring_j[s] : m.spring_i[s]);
       if (r.hops[j] < 0) {
         r.hops[j] = h + 1;
         r.queue.push_back(static_cast<std::int32_t>(j));
@@ -102,7 +86,7 @@ void SelectLocalRegion(const MsmModel& m, std::int32_t seed, std::int32_t max_ho
 void SelectAllNodes(const MsmModel& m, LocalRegion& r) {
   r.active_nodes.clear();
   for (std::int32_t i = 0; i < m.num_nodes; ++i)
-    if (!m.fixed[static_cast<std::size_t>(i)]) r.active_nodes.push_back(i);
+    if (!m.fixed[static_cast<std::size_t>(i)]) r.active_nodes.push_back(i);  // dormant nodes are fixed
   CollectRegion(m, r);
 }
 

@@ -1,5 +1,6 @@
 #include "hapsim/core/msm/msm_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -115,6 +116,52 @@ MsmModel BuildMsmModel(const MsmDef& def) {
     m.absolute_damping_Ns_per_m[i] += m.anchor_c_Ns_per_m[k];
     m.anchor_k_sum_N_per_m[i] += m.anchor_k_N_per_m[k];
     m.anchor_kp_sum_N.col(i) += m.anchor_k_N_per_m[k] * m.anchor_point_W_m.col(static_cast<Eigen::Index>(k));
+  }
+
+  // Node adjacency (build order), then room for dormant nodes.
+  if (def.node_capacity != 0 && static_cast<std::size_t>(def.node_capacity) < n)
+    Fail("node_capacity " + std::to_string(def.node_capacity) + " < number of nodes " + std::to_string(n));
+  const std::size_t capacity = def.node_capacity == 0 ? n : static_cast<std::size_t>(def.node_capacity);
+  std::vector<std::int32_t> degree(capacity, 0);
+  for (std::size_t k = 0; k < s; ++k) {
+    ++degree[static_cast<std::size_t>(m.spring_i[k])];
+    ++degree[static_cast<std::size_t>(m.spring_j[k])];
+  }
+  const std::int32_t built_max = degree.empty() ? 0 : *std::max_element(degree.begin(), degree.end());
+  if (def.max_node_degree < 0) Fail("max_node_degree must be >= 0");
+  if (def.max_node_degree != 0 && def.max_node_degree < built_max)
+    Fail("max_node_degree " + std::to_string(def.max_node_degree) + " < a node's degree at build (" +
+         std::to_string(built_max) + ")");
+  m.max_degree = def.max_node_degree == 0 ? built_max : def.max_node_degree;
+  m.node_degree.assign(capacity, 0);
+  m.node_springs.assign(capacity * static_cast<std::size_t>(m.max_degree), -1);
+  for (std::size_t k = 0; k < s; ++k) {
+    for (const std::int32_t end : {m.spring_i[k], m.spring_j[k]}) {
+      const auto e = static_cast<std::size_t>(end);
+      m.node_springs[e * static_cast<std::size_t>(m.max_degree) + static_cast<std::size_t>(m.node_degree[e]++)] =
+          static_cast<std::int32_t>(k);
+    }
+  }
+  m.num_nodes = static_cast<std::int32_t>(capacity);
+  m.node_live.assign(capacity, 0);
+  std::fill(m.node_live.begin(), m.node_live.begin() + static_cast<std::ptrdiff_t>(n), 1);
+  if (capacity > n) {  // dormant nodes: at the origin, fixed, unit placeholder mass, nothing attached
+    const auto node_cap = static_cast<Eigen::Index>(capacity), en = static_cast<Eigen::Index>(n);
+    m.x0_m.conservativeResize(3, node_cap);
+    m.x0_m.rightCols(node_cap - en).setZero();
+    m.mass_kg.conservativeResize(node_cap);
+    m.mass_kg.tail(node_cap - en).setOnes();
+    m.inv_mass_free_per_kg.conservativeResize(node_cap);
+    m.inv_mass_free_per_kg.tail(node_cap - en).setZero();
+    m.fixed.resize(capacity, 1);
+    m.node_damping_Ns_per_m.conservativeResize(node_cap);
+    m.node_damping_Ns_per_m.tail(node_cap - en).setZero();
+    m.absolute_damping_Ns_per_m.conservativeResize(node_cap);
+    m.absolute_damping_Ns_per_m.tail(node_cap - en).setZero();
+    m.anchor_k_sum_N_per_m.conservativeResize(node_cap);
+    m.anchor_k_sum_N_per_m.tail(node_cap - en).setZero();
+    m.anchor_kp_sum_N.conservativeResize(3, node_cap);
+    m.anchor_kp_sum_N.rightCols(node_cap - en).setZero();
   }
 
   if (std::isnan(def.max_kinetic_energy_J) || def.max_kinetic_energy_J <= 0.0)

@@ -158,9 +158,9 @@ double TissueBlockScene::LocalSurfaceStiffness_N_per_m(const Contact& c) const {
     const std::int32_t i = c.nodes[k];
     double kz = model_.fixed[static_cast<std::size_t>(i)] ? std::numeric_limits<double>::infinity()
                                                           : params_.anchor_stiffness_N_per_m;
-    const auto ui = static_cast<std::size_t>(i);
-    for (std::int32_t e = region_.adjacency_start[ui]; e < region_.adjacency_start[ui + 1] && std::isfinite(kz); ++e) {
-      const auto us = static_cast<std::size_t>(region_.node_springs[static_cast<std::size_t>(e)]);
+    const std::int32_t* springs = model_.SpringsOf(i);
+    for (std::int32_t e = 0; e < model_.DegreeOf(i) && std::isfinite(kz); ++e) {
+      const auto us = static_cast<std::size_t>(springs[e]);
       const Eigen::Vector3d d = state_.x_m.col(model_.spring_j[us]) - state_.x_m.col(model_.spring_i[us]);
       const double l = d.norm();
       const double uz = d.z() / l;

@@ -1,8 +1,10 @@
 // Local update region (gingival paper, section 1): far from the contact the
 // tissue barely moves, so only nodes within a graph distance of the contact
 // are integrated and the rest are frozen. The region is rebuilt between
-// steps (e.g. when the contact node changes) without allocating. Anchors
-// need no list: the step applies them per node (MsmModel anchor sums).
+// steps (e.g. when the contact node changes, or after a cut) without
+// allocating: it walks the model's own per-node spring adjacency, which
+// topology edits keep current. Anchors need no list: the step applies them
+// per node (MsmModel anchor sums).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -12,10 +14,6 @@
 namespace hapsim::core {
 
 struct LocalRegion {
-  // Node adjacency through springs (CSR), built from the model once.
-  std::vector<std::int32_t> adjacency_start;  // (n + 1)
-  std::vector<std::int32_t> adjacency;        // neighbour nodes (2 s)
-  std::vector<std::int32_t> node_springs;     // spring index per adjacency entry (2 s)
   // Output of SelectLocalRegion, sorted ascending (deterministic order):
   std::vector<std::int32_t> active_nodes;     // integrated (free nodes only)
   std::vector<std::int32_t> springs;          // springs with >= 1 active end
@@ -27,8 +25,7 @@ struct LocalRegion {
   std::vector<std::uint8_t> spring_mark;      // (capacity)
 };
 
-// Builds adjacency and reserves every buffer (allocates). Rebuild after
-// topology edits (cutting).
+// Reserves every buffer for the model's node and spring capacities (allocates).
 LocalRegion MakeLocalRegion(const MsmModel& model);
 
 // Selects the free nodes within `max_hops` spring hops of `seed_node`. Never
@@ -37,7 +34,7 @@ LocalRegion MakeLocalRegion(const MsmModel& model);
 void SelectLocalRegion(const MsmModel& model, std::int32_t seed_node, std::int32_t max_hops,
                        LocalRegion& region);
 
-// Every free node active (equivalent to a full update; for comparisons).
+// Every free live node active (equivalent to a full update; for comparisons).
 void SelectAllNodes(const MsmModel& model, LocalRegion& region);
 
 }  // namespace hapsim::core

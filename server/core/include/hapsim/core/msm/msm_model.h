@@ -6,9 +6,11 @@
 // Layout: struct-of-arrays. The spring step streams the spring arrays once
 // per force evaluation and gathers/scatters node data by index, so every
 // spring field is its own contiguous array (no per-spring objects, no
-// branches in the hot loop). Springs are edited only by msm_topology.h
-// (cutting), between steps; capacity is reserved at build so that stays
-// cheap and never reallocates.
+// branches in the hot loop). Nodes and springs are edited only by
+// msm_topology.h (cutting), between steps; node and spring capacities are
+// reserved at build, so edits never reallocate. Nodes beyond the ones in
+// use are dormant (fixed, no springs, no anchor): the step passes over
+// them at the cost of a fixed node.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -33,6 +35,10 @@ struct MsmDef {
   std::vector<double> spring_k_N_per_m;              // (s), >= 0
   std::vector<double> spring_c_Ns_per_m;             // along-spring damping (s), empty = 0
   std::int32_t spring_capacity = 0;                  // room for AddSpring(); >= s (0 = s)
+  std::int32_t node_capacity = 0;                    // room for ActivateNode(); >= n (0 = n)
+  // Springs each node's adjacency list holds (AddSpring fails, counted by
+  // the caller, at a node with this many); 0 = the largest degree at build.
+  std::int32_t max_node_degree = 0;
 
   // Zero-length springs from a node to a fixed world point (the "anchored
   // springs" substrate that holds a surface to its rest shape).
@@ -46,8 +52,11 @@ struct MsmDef {
   double max_kinetic_energy_J = std::numeric_limits<double>::infinity();
 };
 
+// Sizes: n = num_nodes = the node capacity (live and dormant nodes), s = the
+// springs in use, a = the anchors of the build.
 struct MsmModel {
   std::int32_t num_nodes = 0;
+  std::vector<std::uint8_t> node_live;    // (n) 1 = simulated; 0 = dormant (fixed, no springs)
   Eigen::Matrix3Xd x0_m;                  // initial positions [m] (3 x n)
   Eigen::VectorXd mass_kg;                // (n)
   Eigen::VectorXd inv_mass_free_per_kg;   // 1/m for free nodes, 0 for fixed (n): a = f * this
@@ -61,6 +70,13 @@ struct MsmModel {
   std::vector<double> spring_k_N_per_m;          // stiffness (s)
   std::vector<double> spring_c_Ns_per_m;         // damping along the spring (s)
   std::int32_t spring_capacity = 0;
+
+  // Per-node spring adjacency: node i's springs are node_springs[i * max_degree
+  // + k] for k < node_degree[i], in the order they were added (build order
+  // first). O(degree) lookups and edits; kept up to date by msm_topology.h.
+  std::int32_t max_degree = 0;
+  std::vector<std::int32_t> node_degree;   // (n)
+  std::vector<std::int32_t> node_springs;  // (n x max_degree)
 
   std::vector<std::int32_t> anchor_node;     // (a)
   Eigen::Matrix3Xd anchor_point_W_m;         // (3 x a)
@@ -77,6 +93,8 @@ struct MsmModel {
   Eigen::Matrix3Xd anchor_kp_sum_N;           // sum of k_a p_a at i [N] (3 x n)
 
   std::int32_t NumSprings() const { return static_cast<std::int32_t>(spring_i.size()); }
+  const std::int32_t* SpringsOf(std::int32_t node) const { return &node_springs[static_cast<std::size_t>(node) * static_cast<std::size_t>(max_degree)]; }
+  std::int32_t DegreeOf(std::int32_t node) const { return node_degree[static_cast<std::size_t>(node)]; }
   std::int32_t NumAnchors() const { return static_cast<std::int32_t>(anchor_node.size()); }
 };
 
