@@ -13,13 +13,16 @@ MeshTopology::MeshTopology(const MeshTopologyDef& def)
       tri_vertices_(def.triangle_capacity, std::array<std::uint32_t, 3>{0, 0, 0}),
       tri_part_(def.triangle_capacity, 0),
       vertex_refs_(def.vertex_capacity, 0),
+      max_vertex_triangles_(def.max_vertex_triangles),
+      vertex_triangles_(static_cast<std::size_t>(def.vertex_capacity) * def.max_vertex_triangles, kNoSlot),
       part_names_(def.part_names),
       log_(def.log_capacity),
       sealed_vertices_(def.vertex_capacity),
       sealed_triangles_(def.triangle_capacity),
       sealed_tri_vertices_(tri_vertices_),
       sealed_tri_part_(tri_part_),
-      sealed_vertex_refs_(vertex_refs_) {
+      sealed_vertex_refs_(vertex_refs_),
+      sealed_vertex_triangles_(vertex_triangles_) {
   if (part_names_.size() > 0xffff) throw std::invalid_argument("MeshTopology: more than 65535 parts");
   if (def.vertex_capacity == kNoSlot || def.triangle_capacity == kNoSlot)
     throw std::invalid_argument("MeshTopology: capacity too large");
@@ -49,16 +52,20 @@ std::uint32_t MeshTopology::AddTriangle(std::uint32_t a, std::uint32_t b, std::u
                 "MeshTopology::AddTriangle: a vertex is not live");
   HAPSIM_DEMAND(a != b && b != c && a != c, "MeshTopology::AddTriangle: vertices must be distinct");
   HAPSIM_DEMAND(part < part_names_.size(), "MeshTopology::AddTriangle: no such part");
-  const std::uint32_t t = triangles_.Alloc();
+  const bool lists_full = max_vertex_triangles_ > 0 &&
+                         (vertex_refs_[a] >= max_vertex_triangles_ || vertex_refs_[b] >= max_vertex_triangles_ ||
+                          vertex_refs_[c] >= max_vertex_triangles_);
+  const std::uint32_t t = lists_full ? kNoSlot : triangles_.Alloc();
   if (t == kNoSlot) {
     ++capacity_failures_;
     return kNoSlot;
   }
   tri_vertices_[t] = {a, b, c};
   tri_part_[t] = part;
-  ++vertex_refs_[a];
-  ++vertex_refs_[b];
-  ++vertex_refs_[c];
+  for (const std::uint32_t v : {a, b, c}) {
+    if (max_vertex_triangles_ > 0) vertex_triangles_[static_cast<std::size_t>(v) * max_vertex_triangles_ + vertex_refs_[v]] = t;
+    ++vertex_refs_[v];
+  }
   log_.Push({TopologyEdit::Kind::kAddTriangle, part, t, {a, b, c}});
   return t;
 }
@@ -66,7 +73,18 @@ std::uint32_t MeshTopology::AddTriangle(std::uint32_t a, std::uint32_t b, std::u
 void MeshTopology::RemoveTriangle(std::uint32_t t) {
   HAPSIM_DEMAND(triangles_.IsLive(t), "MeshTopology::RemoveTriangle: the triangle is not live");
   triangles_.Free(t);
-  for (const std::uint32_t v : tri_vertices_[t]) --vertex_refs_[v];
+  for (const std::uint32_t v : tri_vertices_[t]) {
+    if (max_vertex_triangles_ > 0) {  // swap-remove t from v's list
+      std::uint32_t* list = &vertex_triangles_[static_cast<std::size_t>(v) * max_vertex_triangles_];
+      for (std::uint32_t k = 0; k < vertex_refs_[v]; ++k) {
+        if (list[k] != t) continue;
+        list[k] = list[vertex_refs_[v] - 1];
+        list[vertex_refs_[v] - 1] = kNoSlot;
+        break;
+      }
+    }
+    --vertex_refs_[v];
+  }
   log_.Push({TopologyEdit::Kind::kRemoveTriangle, 0, t, {}});
 }
 
@@ -76,6 +94,7 @@ void MeshTopology::Seal() {
   std::copy(tri_vertices_.begin(), tri_vertices_.end(), sealed_tri_vertices_.begin());
   std::copy(tri_part_.begin(), tri_part_.end(), sealed_tri_part_.begin());
   std::copy(vertex_refs_.begin(), vertex_refs_.end(), sealed_vertex_refs_.begin());
+  std::copy(vertex_triangles_.begin(), vertex_triangles_.end(), sealed_vertex_triangles_.begin());
   log_.Restart();
 }
 
@@ -85,7 +104,19 @@ void MeshTopology::Reset() {
   std::copy(sealed_tri_vertices_.begin(), sealed_tri_vertices_.end(), tri_vertices_.begin());
   std::copy(sealed_tri_part_.begin(), sealed_tri_part_.end(), tri_part_.begin());
   std::copy(sealed_vertex_refs_.begin(), sealed_vertex_refs_.end(), vertex_refs_.begin());
+  std::copy(sealed_vertex_triangles_.begin(), sealed_vertex_triangles_.end(), vertex_triangles_.begin());
   log_.Restart();
+}
+
+std::uint32_t MeshTopology::TriangleWithEdge(std::uint32_t a, std::uint32_t b) const {
+  HAPSIM_DEMAND(max_vertex_triangles_ > 0, "MeshTopology::TriangleWithEdge needs max_vertex_triangles > 0");
+  for (const std::uint32_t t : TrianglesOf(a)) {
+    const auto& v = tri_vertices_[t];
+    for (int k = 0; k < 3; ++k) {
+      if (v[static_cast<std::size_t>(k)] == a && v[static_cast<std::size_t>((k + 1) % 3)] == b) return t;
+    }
+  }
+  return kNoSlot;
 }
 
 std::vector<std::uint32_t> MeshTopology::LiveTriangleIndices(std::vector<std::uint16_t>* parts) const {

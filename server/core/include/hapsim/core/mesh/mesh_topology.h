@@ -12,6 +12,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,10 @@ struct MeshTopologyDef {
   std::uint32_t triangle_capacity = 0;
   std::vector<std::string> part_names;  // at most 65535
   std::size_t log_capacity = 4096;      // edits kept for incremental viewer updates
+  // Triangles each vertex's incidence list holds (0: none kept). With it,
+  // edge lookups are O(valence); AddTriangle fails (kNoSlot, counted) at a
+  // vertex whose list is full.
+  std::uint32_t max_vertex_triangles = 0;
 };
 
 class MeshTopology {
@@ -52,6 +57,15 @@ class MeshTopology {
   const std::vector<std::uint16_t>& TrianglePartArray() const { return tri_part_; }                     // (capacity)
   std::uint32_t VertexUses(std::uint32_t v) const { return vertex_refs_[v]; }  // live triangles using v
   const std::vector<std::string>& PartNames() const { return part_names_; }
+
+  // With MeshTopologyDef::max_vertex_triangles > 0: the live triangles using
+  // vertex v, and the live triangle holding the directed edge a -> b in its
+  // counter-clockwise order (kNoSlot if none). O(valence).
+  std::span<const std::uint32_t> TrianglesOf(std::uint32_t v) const {
+    if (max_vertex_triangles_ == 0) return {};
+    return {vertex_triangles_.data() + static_cast<std::size_t>(v) * max_vertex_triangles_, vertex_refs_[v]};
+  }
+  std::uint32_t TriangleWithEdge(std::uint32_t a, std::uint32_t b) const;
   const TopologyLog& Log() const { return log_; }
   std::uint64_t Version() const { return log_.Version(); }
   std::uint64_t CapacityFailures() const { return capacity_failures_; }
@@ -66,7 +80,9 @@ class MeshTopology {
   SlotPool vertices_, triangles_;
   std::vector<std::array<std::uint32_t, 3>> tri_vertices_;  // (triangle capacity)
   std::vector<std::uint16_t> tri_part_;                     // (triangle capacity)
-  std::vector<std::uint32_t> vertex_refs_;                  // (vertex capacity)
+  std::vector<std::uint32_t> vertex_refs_;                  // (vertex capacity) live triangles using each vertex
+  std::uint32_t max_vertex_triangles_ = 0;
+  std::vector<std::uint32_t> vertex_triangles_;             // (vertex capacity x max_vertex_triangles_)
   std::vector<std::string> part_names_;
   TopologyLog log_;
   std::uint64_t capacity_failures_ = 0;
@@ -75,6 +91,7 @@ class MeshTopology {
   std::vector<std::array<std::uint32_t, 3>> sealed_tri_vertices_;
   std::vector<std::uint16_t> sealed_tri_part_;
   std::vector<std::uint32_t> sealed_vertex_refs_;
+  std::vector<std::uint32_t> sealed_vertex_triangles_;
 };
 
 }  // namespace hapsim::core

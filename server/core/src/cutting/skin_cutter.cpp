@@ -1,0 +1,557 @@
+#include "hapsim/core/cutting/skin_cutter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+#include "hapsim/core/msm/msm_topology.h"
+
+namespace hapsim::core {
+
+namespace {
+
+constexpr std::uint32_t kLipFlag = 0x80000000u;  // a Tri entry naming lips_[i], not a node
+constexpr double kOnCurve_m = 1e-9;              // a node this close to the curve is on it
+constexpr int kPolylineSamples = 9;              // the segment as 8 straight pieces (stage-1 distances)
+
+double PointSegmentDistance2D(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector2d ab = (b - a).head<2>(), ap = (p - a).head<2>();
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? std::clamp(ap.dot(ab) / len2, 0.0, 1.0) : 0.0;
+  return (ap - t * ab).norm();
+}
+
+double Cross2D(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+
+bool SegmentsIntersect2D(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const Eigen::Vector3d& d) {
+  const Eigen::Vector2d r = (b - a).head<2>(), s = (d - c).head<2>(), ca = (c - a).head<2>();
+  const double den = Cross2D(r, s);
+  if (den == 0.0) return false;  // parallel: the distance test decides
+  const double t = Cross2D(ca, s) / den, u = Cross2D(ca, r) / den;
+  return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
+}
+
+double SignedArea2D(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return 0.5 * Cross2D((b - a).head<2>(), (c - a).head<2>());
+}
+
+}  // namespace
+
+CutStats& CutStats::operator+=(const CutStats& o) {
+  triangles_removed += o.triangles_removed;
+  triangles_added += o.triangles_added;
+  nodes_removed += o.nodes_removed;
+  nodes_added += o.nodes_added;
+  springs_removed += o.springs_removed;
+  springs_added += o.springs_added;
+  skipped_triangles += o.skipped_triangles;
+  refused = refused || o.refused;
+  return *this;
+}
+
+SkinCutter::SkinCutter(const SkinMesh& skin) {
+  const std::size_t nv = skin.topology.Vertices().Capacity(), nt = skin.topology.Triangles().Capacity();
+  polyline_.reserve(kPolylineSamples);
+  inside_.reserve(nv);
+  removed_triangles_.reserve(nt);
+  triangle_mark_.assign(nt, 0);
+  next_.assign(nv, kNoSlot);
+  has_prev_.assign(nv, 0);
+  border_nodes_.reserve(nv);
+  chain_.reserve(nv);
+  chain_start_.reserve(nv + 1);
+  chain_closed_.reserve(nv);
+  lips_.reserve(nv);
+  params_.reserve(nv);
+  left_lips_.reserve(nv);
+  right_lips_.reserve(nv);
+  run_.reserve(nv);
+  fan_ok_.reserve(nv);
+  new_triangles_.reserve(2 * nv);
+  lip_nodes_.reserve(nv);
+  touched_.reserve(nv);
+  touched_mark_.assign(nv, 0);
+}
+
+double SkinCutter::DistanceToSegment(const Eigen::Vector3d& p) const {
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i + 1 < polyline_.size(); ++i) d = std::min(d, PointSegmentDistance2D(p, polyline_[i], polyline_[i + 1]));
+  return d;
+}
+
+bool SkinCutter::SegmentCrossesZone(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
+  for (std::size_t i = 0; i + 1 < polyline_.size(); ++i) {
+    const Eigen::Vector3d& c = polyline_[i];
+    const Eigen::Vector3d& d = polyline_[i + 1];
+    if (SegmentsIntersect2D(a, b, c, d)) return true;
+    const double dist = std::min({PointSegmentDistance2D(a, c, d), PointSegmentDistance2D(b, c, d),
+                                  PointSegmentDistance2D(c, a, b), PointSegmentDistance2D(d, a, b)});
+    if (dist < zone_radius_m_) return true;
+  }
+  return false;
+}
+
+// Walks the hole's border (next_) into chains, matches each border node to
+// the curve (stage 3) and decides its wound node (lips_).
+bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
+  chain_.clear();
+  chain_start_.clear();
+  chain_closed_.clear();
+  lips_.clear();
+  const int k = curve.Segments() - 1;
+  const double end_s = static_cast<double>(k + 1);
+  // Chains: open ones start at a border node nothing leads to; the rest are loops.
+  auto walk = [&](std::uint32_t start, bool closed) {
+    chain_start_.push_back(static_cast<std::uint32_t>(chain_.size()));
+    chain_closed_.push_back(closed ? 1 : 0);
+    std::uint32_t v = start;
+    std::size_t guard = 0;
+    do {
+      chain_.push_back({v, 0.0, 0, 0});
+      has_prev_[v] = 2;  // visited
+      v = next_[v];
+    } while (v != kNoSlot && v != start && has_prev_[v] != 2 && ++guard < next_.size());
+    return !closed || v == start;
+  };
+  for (const std::uint32_t b : border_nodes_)
+    if (has_prev_[b] == 0 && !walk(b, false)) return false;
+  for (const std::uint32_t b : border_nodes_)
+    if (has_prev_[b] == 1 && !walk(b, true)) return false;
+  chain_start_.push_back(static_cast<std::uint32_t>(chain_.size()));
+  std::size_t loops = 0;
+  for (const auto c : chain_closed_) loops += c;
+  if (loops > 1 || (loops == 1 && chain_closed_.size() > 1)) return false;  // a hole we cannot fill with one ladder
+
+  // Stage 3: match every border node to the curve.
+  for (ChainNode& c : chain_) {
+    const Eigen::Vector3d& p = skin.model.x0_m.col(c.node);
+    const IncisionCurve::Projection proj = curve.Project(p.head<2>(), std::max(0, k - 3), k);
+    c.s = proj.s;
+    if (proj.s >= end_s - 1e-9) {
+      c.side = 0;  // matched to the curve's end
+      c.s = end_s;
+    } else if (proj.distance_m < kOnCurve_m && skin.on_lip[c.node]) {
+      c.side = 0;  // a lip from before: it is its own wound node
+    } else if (proj.s <= 1e-9) {
+      c.side = 0;  // matched to the curve's start (behind it)
+      c.s = 0.0;
+    } else {
+      c.side = proj.side != 0 ? proj.side : 1;
+    }
+  }
+  // A loop (the hole holds the incision's start) starts at a node matched
+  // to the curve's start, so the walk (hole on its right: clockwise) runs up the
+  // left lip, round the end and back down the right lip.
+  if (loops == 1) {
+    const auto n = chain_.size();
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (chain_[i].side == 0 && chain_[i].s == 0.0) {
+        start = i;
+        break;
+      }
+    }
+    std::rotate(chain_.begin(), chain_.begin() + static_cast<std::ptrdiff_t>(start), chain_.end());
+  }
+  // Matches must not fold back: along the walk the left lip's parameter
+  // only grows, the right lip's only shrinks, and neither passes a border
+  // node already on the curve (an old lip) next to it — a folding match
+  // shares its neighbour's wound node instead. Forward for the left side,
+  // backward for the right.
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
+    double run = -kInf;
+    for (std::uint32_t i = chain_start_[c]; i < chain_start_[c + 1]; ++i) {
+      ChainNode& n = chain_[i];
+      if (n.side == 0 && n.s != end_s) run = std::max(run, n.s);
+      if (n.side > 0) run = n.s = std::max(n.s, run);
+    }
+    run = -kInf;
+    for (std::uint32_t i = chain_start_[c + 1]; i-- > chain_start_[c];) {
+      ChainNode& n = chain_[i];
+      if (n.side == 0 && n.s != end_s) run = std::max(run, n.s);
+      if (n.side < 0) run = n.s = std::max(n.s, run);
+    }
+  }
+  // Wound nodes: one shared end node; one shared start node (the old one
+  // if it is on the hole's border, a new one if the hole swallowed it or
+  // this is the first segment); a border node on the curve is its own; then
+  // one per distinct match on each side, unless it falls on a neighbour's.
+  std::uint32_t end_lip = kNoSlot, start_lip = kNoSlot;
+  for (std::uint32_t i = 0; i < chain_.size(); ++i) {
+    ChainNode& n = chain_[i];
+    n.lip = kNoSlot;
+    if (n.side == 0 && n.s != end_s && skin.on_lip[n.node] &&
+        (skin.model.x0_m.col(n.node).head<2>() - curve.FirstPoint()).norm() < kOnCurve_m) {
+      start_lip = static_cast<std::uint32_t>(lips_.size());  // the old start node, still on the border
+      lips_.push_back({skin.model.x0_m.col(n.node), i, n.node});
+      n.lip = start_lip;
+    }
+  }
+  for (std::uint32_t i = 0; i < chain_.size(); ++i) {
+    ChainNode& n = chain_[i];
+    if (n.lip != kNoSlot) continue;
+    const Eigen::Vector2d at = curve.Point(n.s);
+    const Eigen::Vector3d rest(at.x(), at.y(), 0.0);
+    const bool at_start = n.s == 0.0 && !(skin.on_lip[n.node] && (skin.model.x0_m.col(n.node).head<2>() - at).norm() < kOnCurve_m);
+    if (n.side == 0 && n.s == end_s) {
+      if (end_lip == kNoSlot) {
+        end_lip = static_cast<std::uint32_t>(lips_.size());
+        lips_.push_back({rest, i, kNoSlot});
+      }
+      n.lip = end_lip;
+    } else if (n.side == 0 && at_start) {
+      if (start_lip == kNoSlot) {
+        start_lip = static_cast<std::uint32_t>(lips_.size());
+        lips_.push_back({rest, i, kNoSlot});
+      }
+      n.lip = start_lip;
+    } else if (n.side == 0) {
+      n.lip = static_cast<std::uint32_t>(lips_.size());
+      lips_.push_back({skin.model.x0_m.col(n.node), i, n.node});
+    }
+  }
+  // Side nodes: the matches of both sides form one sorted set of curve
+  // parameters, and each side gets a wound node at every one of them — the
+  // two lips then pass through the same curve points and close exactly at
+  // rest, however the curve bends. A match equal to a neighbouring old
+  // lip's parameter is that lip.
+  // (Old lips count as matches too: the other side gets a node there.)
+  params_.clear();
+  for (const ChainNode& n : chain_)
+    if (n.side != 0 || (n.lip != kNoSlot && lips_[n.lip].node == n.node && n.s > 0.0 && n.s < end_s)) params_.push_back(n.s);
+  std::sort(params_.begin(), params_.end());
+  params_.erase(std::unique(params_.begin(), params_.end(), [](double a, double b) { return b - a < 1e-12; }),
+                params_.end());
+  left_lips_.assign(params_.size(), kNoSlot);
+  right_lips_.assign(params_.size(), kNoSlot);
+  for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
+    const std::uint32_t first_i = chain_start_[c], last_i = chain_start_[c + 1], len = last_i - first_i;
+    const bool closed = chain_closed_[c] != 0;
+    auto neighbour = [&](std::uint32_t i, int step) -> const ChainNode* {
+      const std::uint32_t local = i - first_i;
+      if (!closed && ((step < 0 && local == 0) || (step > 0 && local + 1 == len))) return nullptr;
+      return &chain_[first_i + (local + len + static_cast<std::uint32_t>(len + step)) % len];
+    };
+    // An old lip sits on the side of the border nodes next to it.
+    for (std::uint32_t i = first_i; i < last_i; ++i) {
+      const ChainNode& n = chain_[i];
+      if (n.side != 0 || n.lip == kNoSlot || lips_[n.lip].node != n.node || !(n.s > 0.0 && n.s < end_s)) continue;
+      int side = 0;
+      for (const int step : {1, -1}) {
+        const ChainNode* m = neighbour(i, step);
+        if (m && m->side != 0) {
+          side = m->side;
+          break;
+        }
+      }
+      if (side != 0) (side > 0 ? left_lips_ : right_lips_)[ParamIndex(n.s)] = n.lip;
+    }
+    for (std::uint32_t i = first_i; i < last_i; ++i) {
+      ChainNode& n = chain_[i];
+      if (n.side == 0) continue;
+      for (const int step : {-1, 1}) {
+        const ChainNode* m = neighbour(i, step);
+        if (m && m->side == 0 && m->lip != kNoSlot && lips_[m->lip].node == m->node && std::abs(m->s - n.s) < 1e-12) {
+          n.lip = m->lip;
+          break;
+        }
+      }
+      if (n.lip == kNoSlot) n.lip = SideLip(curve, n.side, ParamIndex(n.s), i);
+    }
+  }
+  return true;
+}
+
+std::size_t SkinCutter::ParamIndex(double s) const {
+  const auto it = std::lower_bound(params_.begin(), params_.end(), s - 1e-12);
+  return static_cast<std::size_t>(it - params_.begin());
+}
+
+std::uint32_t SkinCutter::SideLip(const IncisionCurve& curve, int side, std::size_t k, std::uint32_t from_chain) {
+  std::uint32_t& lip = (side > 0 ? left_lips_ : right_lips_)[k];
+  if (lip == kNoSlot) {
+    const Eigen::Vector2d at = curve.Point(params_[k]);
+    lip = static_cast<std::uint32_t>(lips_.size());
+    lips_.push_back({Eigen::Vector3d(at.x(), at.y(), 0.0), from_chain, kNoSlot});
+  }
+  return lip;
+}
+
+// Between consecutive border nodes a -> b (the hole on the right) and the
+// run of wound nodes from a's match to b's along the curve (every shared
+// parameter in between, on their side), triangles zip the border pair to
+// the run: at each step the shorter diagonal wins (the paper's "connect the
+// shorter diagonal" of each quadrilateral). Degenerate triangles (a border
+// node that is its own wound node) are left out: they have no area.
+void SkinCutter::PlanTriangles(const SkinMesh& skin, const IncisionCurve& curve) {
+  new_triangles_.clear();
+  planned_skips_ = 0;
+  auto entry = [&](std::uint32_t lip) { return lips_[lip].node != kNoSlot ? lips_[lip].node : (kLipFlag | lip); };
+  auto rest = [&](std::uint32_t e) -> Eigen::Vector3d {
+    return (e & kLipFlag) ? lips_[e & ~kLipFlag].rest_m : Eigen::Vector3d(skin.model.x0_m.col(e));
+  };
+  auto emit = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    if (x != y && y != z && x != z) new_triangles_.push_back({x, y, z});
+  };
+  for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
+    const std::uint32_t first = chain_start_[c], last = chain_start_[c + 1];
+    const std::uint32_t pairs = (last - first) - (chain_closed_[c] ? 0 : 1);
+    for (std::uint32_t p = 0; p < pairs; ++p) {
+      const std::uint32_t ia = first + p, ib = first + (p + 1) % (last - first);
+      const ChainNode& a = chain_[ia];
+      const ChainNode& b = chain_[ib];
+      if (a.side != 0 && b.side != 0 && a.side != b.side) continue;  // would bridge the wound: leave it open
+      // The run of wound nodes from a's to b's.
+      run_.clear();
+      run_.push_back(entry(a.lip));
+      const int side = a.side != 0 ? a.side : b.side;
+      if (side != 0) {
+        const double lo = std::min(a.s, b.s), hi = std::max(a.s, b.s);
+        for (std::size_t m = 0; m < params_.size(); ++m) {
+          const std::size_t k = side > 0 ? m : params_.size() - 1 - m;  // the left run climbs, the right descends
+          if (params_[k] > lo + 1e-12 && params_[k] < hi - 1e-12) run_.push_back(entry(SideLip(curve, side, k, ia)));
+        }
+      }
+      run_.push_back(entry(b.lip));
+      // Zip: polygon b, a, run[0..n], counter-clockwise. From a the run is
+      // followed while the shorter diagonal says so; then b fans over the
+      // rest. A step is taken only if its triangles keep a positive area
+      // (on a bending curve the shorter diagonal can fold the fan).
+      const std::size_t n = run_.size() - 1;
+      // Sound: a positive area and no other border node inside (a notch in
+      // the hole's border must not be covered) — repeats make no triangle.
+      auto ok = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+        if (x == y || y == z || x == z) return true;
+        const Eigen::Vector3d px = rest(x), py = rest(y), pz = rest(z);
+        if (!(SignedArea2D(px, py, pz) > 0.0)) return false;
+        for (const ChainNode& other : chain_) {
+          if (other.node == x || other.node == y || other.node == z) continue;
+          const Eigen::Vector3d q = skin.model.x0_m.col(other.node);
+          if (SignedArea2D(px, py, q) > 0.0 && SignedArea2D(py, pz, q) > 0.0 && SignedArea2D(pz, px, q) > 0.0) return false;
+        }
+        return true;
+      };
+      fan_ok_.assign(n + 1, 1);  // fan_ok_[j]: b's fan over run[j..n] keeps a positive area
+      for (std::size_t j = n; j-- > 0;) fan_ok_[j] = fan_ok_[j + 1] && ok(b.node, run_[j], run_[j + 1]);
+      std::size_t j = 0;
+      while (j < n) {
+        const bool advance = ok(a.node, run_[j], run_[j + 1]);
+        const bool turn = ok(b.node, a.node, run_[j]) && fan_ok_[j];
+        const bool shorter = (rest(a.node) - rest(run_[j + 1])).squaredNorm() <= (rest(b.node) - rest(run_[j])).squaredNorm();
+        if (advance && (!turn || shorter)) {
+          emit(a.node, run_[j], run_[j + 1]);
+          ++j;
+        } else {
+          break;  // b takes over (if neither step is sound, the check below drops what folds)
+        }
+      }
+      // What is not sound is left open (counted): a gap, never an overlap.
+      auto emit_sound = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+        if (ok(x, y, z)) {
+          emit(x, y, z);
+        } else {
+          ++planned_skips_;
+        }
+      };
+      emit_sound(b.node, a.node, run_[j]);
+      for (; j < n; ++j) emit_sound(b.node, run_[j], run_[j + 1]);
+    }
+  }
+  // Drop what would be inverted or degenerate at rest (counted by the caller).
+  const double min_area = 1e-6 * skin.def.spacing_m * skin.def.spacing_m;
+  planned_skips_ += static_cast<std::uint32_t>(std::erase_if(new_triangles_, [&](const Tri& t) {
+    return !(SignedArea2D(rest(t[0]), rest(t[1]), rest(t[2])) > min_area);
+  }));
+}
+
+CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& curve, const CutConfig& config) {
+  CutStats st;
+  config_ = config;
+  const int k = curve.Segments() - 1;
+  if (k < 0) return st;
+  MeshTopology& topo = skin.topology;
+  polyline_.clear();
+  for (int i = 0; i < kPolylineSamples; ++i) {
+    const Eigen::Vector2d p = BezierPoint(curve.Controls(k), static_cast<double>(i) / (kPolylineSamples - 1));
+    polyline_.emplace_back(p.x(), p.y(), 0.0);
+  }
+  zone_radius_m_ = config.sweep_radius_m;
+
+  // Stage 1: the swept volume's nodes and their triangles.
+  inside_.clear();
+  for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
+    if (topo.Vertices().IsLive(v) && DistanceToSegment(skin.model.x0_m.col(v)) < zone_radius_m_) inside_.push_back(v);
+  }
+  removed_triangles_.clear();
+  for (const std::uint32_t v : inside_)
+    for (const std::uint32_t t : topo.TrianglesOf(v))
+      if (!triangle_mark_[t]) {
+        triangle_mark_[t] = 1;
+        removed_triangles_.push_back(t);
+      }
+  auto clean_up = [&] {
+    for (const std::uint32_t t : removed_triangles_) triangle_mark_[t] = 0;
+    for (const std::uint32_t b : border_nodes_) {
+      has_prev_[next_[b]] = 0;
+      has_prev_[b] = 0;
+      next_[b] = kNoSlot;
+    }
+    border_nodes_.clear();
+  };
+  if (removed_triangles_.empty()) return st;  // the blade moved through a hole already cut
+
+  // The hole's border: edges of surviving triangles that faced a removed one,
+  // oriented with the hole on their right (b -> a for a removed a -> b).
+  bool pinched = false;
+  for (const std::uint32_t t : removed_triangles_) {
+    const auto& tv = topo.TriangleVertices(t);
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = tv[static_cast<std::size_t>(e)], b = tv[static_cast<std::size_t>((e + 1) % 3)];
+      const std::uint32_t twin = topo.TriangleWithEdge(b, a);
+      if (twin == kNoSlot || triangle_mark_[twin]) continue;
+      if (next_[b] != kNoSlot) pinched = true;  // the hole touches itself at b
+      if (next_[b] == kNoSlot) border_nodes_.push_back(b);
+      next_[b] = a;
+      has_prev_[a] = 1;
+    }
+  }
+  if (pinched || !PlanChains(skin, curve)) {
+    for (auto& c : chain_) has_prev_[c.node] = 0;
+    clean_up();
+    st.refused = true;
+    return st;
+  }
+  for (auto& c : chain_) has_prev_[c.node] = 0;
+  PlanTriangles(skin, curve);
+  st.skipped_triangles = planned_skips_;
+
+  // Capacities (conservatively, before anything is freed): refuse whole.
+  std::size_t new_nodes = 0;
+  for (const Lip& l : lips_) new_nodes += l.node == kNoSlot;
+  const std::size_t free_vertices = topo.Vertices().Capacity() - topo.Vertices().LiveCount();
+  const std::size_t free_triangles = topo.Triangles().Capacity() - topo.Triangles().LiveCount() + removed_triangles_.size();
+  const std::size_t free_springs = static_cast<std::size_t>(skin.model.spring_capacity - skin.model.NumSprings());
+  if (new_nodes > free_vertices || new_triangles_.size() > free_triangles || 3 * new_triangles_.size() > free_springs) {
+    clean_up();
+    st.refused = true;
+    return st;
+  }
+
+  // Apply stage 1: triangles, then the nodes nothing uses any more (their
+  // springs go with them), then springs across the zone between survivors.
+  touched_.clear();
+  auto touch = [&](std::uint32_t v) {
+    if (!touched_mark_[v]) {
+      touched_mark_[v] = 1;
+      touched_.push_back(v);
+    }
+  };
+  for (const std::uint32_t t : removed_triangles_) {
+    for (const std::uint32_t v : topo.TriangleVertices(t)) touch(v);
+    topo.RemoveTriangle(t);
+    ++st.triangles_removed;
+  }
+  for (const std::uint32_t v : touched_) {
+    if (topo.VertexUses(v) != 0) continue;
+    st.springs_removed += static_cast<std::uint32_t>(skin.model.DegreeOf(static_cast<std::int32_t>(v)));
+    DeactivateNode(skin.model, skin.state, static_cast<std::int32_t>(v));
+    topo.RemoveVertex(v);
+    skin.on_lip[v] = 0;
+    ++st.nodes_removed;
+  }
+  // Springs of nodes near the zone whose rest segment crosses it and that
+  // are not an edge of a surviving triangle (shear and bending springs
+  // across the cut). Spring indices move on removal: look each up again.
+  const double reach = zone_radius_m_ + 2.5 * skin.def.spacing_m;
+  for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
+    if (!topo.Vertices().IsLive(v) || DistanceToSegment(skin.model.x0_m.col(v)) > reach) continue;
+    for (std::int32_t e = 0; e < skin.model.DegreeOf(static_cast<std::int32_t>(v));) {
+      const auto s = static_cast<std::size_t>(skin.model.SpringsOf(static_cast<std::int32_t>(v))[e]);
+      const std::uint32_t i = static_cast<std::uint32_t>(skin.model.spring_i[s]), j = static_cast<std::uint32_t>(skin.model.spring_j[s]);
+      const bool edge = topo.TriangleWithEdge(i, j) != kNoSlot || topo.TriangleWithEdge(j, i) != kNoSlot;
+      if (!edge && SegmentCrossesZone(skin.model.x0_m.col(i), skin.model.x0_m.col(j))) {
+        RemoveSpring(skin.model, static_cast<std::int32_t>(s));
+        ++st.springs_removed;
+      } else {
+        ++e;
+      }
+    }
+  }
+
+  // Stage 3 applied: wound nodes (rest on the curve; displaced like the
+  // border node they were matched from), triangles, edge springs.
+  // Wound nodes are made when a triangle first uses one (rest on the
+  // curve; displaced like the border node they were matched from).
+  lip_nodes_.assign(lips_.size(), kNoSlot);
+  auto node_of = [&](std::uint32_t e) -> std::uint32_t {
+    if (!(e & kLipFlag)) return e;
+    const std::uint32_t lip = e & ~kLipFlag;
+    if (lip_nodes_[lip] != kNoSlot) return lip_nodes_[lip];
+    const Lip& l = lips_[lip];
+    const std::uint32_t v = topo.AddVertex();  // capacity checked above
+    const std::uint32_t from = chain_[l.from_chain].node;
+    NodeDef def;
+    def.x_W_m = l.rest_m;
+    def.mass_kg = skin.model.mass_kg[static_cast<Eigen::Index>(from)];  // re-lumped below
+    def.damping_Ns_per_m = skin.def.node_damping_Ns_per_m;
+    def.anchor_k_N_per_m = config.wound_anchor_k_N_per_m;
+    ActivateNode(skin.model, skin.state, static_cast<std::int32_t>(v), def);
+    skin.state.x_m.col(v) = skin.state.x_m.col(from) + (l.rest_m - skin.model.x0_m.col(from));
+    skin.state.v_m_per_s.col(v) = skin.state.v_m_per_s.col(from);
+    skin.on_lip[v] = 1;
+    skin.lip_nodes.push_back(v);
+    touch(v);
+    ++st.nodes_added;
+    return lip_nodes_[lip] = v;
+  };
+  for (Tri t : new_triangles_) {
+    for (auto& e : t) e = node_of(e);
+    if (topo.AddTriangle(t[0], t[1], t[2], kWoundPart) == kNoSlot) {
+      ++st.skipped_triangles;
+      continue;
+    }
+    ++st.triangles_added;
+    for (int e = 0; e < 3; ++e) {
+      const auto a = static_cast<std::int32_t>(t[static_cast<std::size_t>(e)]);
+      const auto b = static_cast<std::int32_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
+      touch(static_cast<std::uint32_t>(a));
+      if (FindSpring(skin.model, a, b) != kNoSpring) continue;
+      const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm();
+      if (AddSpring(skin.model, a, b, rest, skin.def.spring_k_N_per_m, skin.def.spring_c_Ns_per_m) != kNoSpring) {
+        ++st.springs_added;
+      }
+    }
+  }
+  for (const std::uint32_t v : touched_) {
+    if (topo.Vertices().IsLive(v)) RelumpNodeMass(skin, v);
+    touched_mark_[v] = 0;
+  }
+  std::erase_if(skin.lip_nodes, [&](std::uint32_t v) { return !topo.Vertices().IsLive(v); });
+  RebuildWoundEdges(skin);
+  clean_up();
+  return st;
+}
+
+void SkinCutter::RebuildWoundEdges(SkinMesh& skin) {
+  skin.wound_edges.clear();
+  const MeshTopology& topo = skin.topology;
+  for (const std::uint32_t v : skin.lip_nodes) {
+    for (const std::uint32_t t : topo.TrianglesOf(v)) {
+      const auto& tv = topo.TriangleVertices(t);
+      for (int e = 0; e < 3; ++e) {
+        if (tv[static_cast<std::size_t>(e)] != v) continue;
+        const std::uint32_t w = tv[static_cast<std::size_t>((e + 1) % 3)];
+        if (topo.TriangleWithEdge(w, v) == kNoSlot && !(skin.on_border[v] && skin.on_border[w]) &&
+            skin.wound_edges.size() < skin.wound_edges.capacity()) {
+          skin.wound_edges.push_back({v, w});
+        }
+      }
+    }
+  }
+}
+
+}  // namespace hapsim::core
