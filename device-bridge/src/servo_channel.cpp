@@ -16,6 +16,9 @@ core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m) {
   c.stiffness_N_per_m = m.stiffness_n_per_m;
   c.damping_Ns_per_m = m.damping_ns_per_m;
   c.feedforward_W_N = {m.feedforward_n[0], m.feedforward_n[1], m.feedforward_n[2]};
+  c.drag_direction_W = {m.drag_direction[0], m.drag_direction[1], m.drag_direction[2]};
+  c.drag_N = m.drag_n;
+  c.drag_damping_Ns_per_m = m.drag_damping_ns_per_m;
   return c;
 }
 

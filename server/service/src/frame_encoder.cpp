@@ -33,6 +33,7 @@ void FillEvents(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::F
     out->set_kind(core::ToString(e.kind));
     out->set_layer(e.layer);
     for (int k = 0; k < 3; ++k) out->add_where_m(e.where_W_m[k]);
+    out->set_value(e.value);
   }
   state->events_sent = s.events_total;
 }

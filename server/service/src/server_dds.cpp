@@ -25,7 +25,10 @@ void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
     out.normal[i] = in.model.normal_W[i];
     out.feedforward_n[i] = in.model.feedforward_W_N[i];
     out.tool_force_n[i] = in.tool_force_W_N[i];
+    out.drag_direction[i] = in.model.drag_direction_W[i];
   }
+  out.drag_n = in.model.drag_N;
+  out.drag_damping_ns_per_m = in.model.drag_damping_Ns_per_m;
   out.stiffness_n_per_m = in.model.stiffness_N_per_m;
   out.damping_ns_per_m = in.model.damping_Ns_per_m;
 }

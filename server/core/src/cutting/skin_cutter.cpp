@@ -384,7 +384,9 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
   // Stage 1: the swept volume's nodes and their triangles.
   inside_.clear();
   for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
-    if (topo.Vertices().IsLive(v) && DistanceToSegment(skin.model.x0_m.col(v)) < zone_radius_m_) inside_.push_back(v);
+    // Skin nodes only (other vertex slots, e.g. a tool's, have no live node).
+    if (topo.Vertices().IsLive(v) && skin.model.node_live[v] && DistanceToSegment(skin.model.x0_m.col(v)) < zone_radius_m_)
+      inside_.push_back(v);
   }
   removed_triangles_.clear();
   for (const std::uint32_t v : inside_)
@@ -468,7 +470,7 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
   // across the cut). Spring indices move on removal: look each up again.
   const double reach = zone_radius_m_ + 2.5 * skin.def.spacing_m;
   for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
-    if (!topo.Vertices().IsLive(v) || DistanceToSegment(skin.model.x0_m.col(v)) > reach) continue;
+    if (!skin.model.node_live[v] || DistanceToSegment(skin.model.x0_m.col(v)) > reach) continue;
     for (std::int32_t e = 0; e < skin.model.DegreeOf(static_cast<std::int32_t>(v));) {
       const auto s = static_cast<std::size_t>(skin.model.SpringsOf(static_cast<std::int32_t>(v))[e]);
       const std::uint32_t i = static_cast<std::uint32_t>(skin.model.spring_i[s]), j = static_cast<std::uint32_t>(skin.model.spring_j[s]);

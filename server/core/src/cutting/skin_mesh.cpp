@@ -63,9 +63,11 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   s.state = MakeMsmState(s.model);
 
   const std::uint32_t vcap = static_cast<std::uint32_t>(s.model.num_nodes);
+  std::vector<std::string> parts = {"skin", "wound"};
+  parts.insert(parts.end(), d.extra_parts.begin(), d.extra_parts.end());
   s.topology = MeshTopology({.vertex_capacity = vcap,
                              .triangle_capacity = static_cast<std::uint32_t>(2 * (s.nx - 1) * (s.ny - 1)) + d.extra_triangles,
-                             .part_names = {"skin", "wound"},
+                             .part_names = parts,
                              .log_capacity = 8192,
                              .max_vertex_triangles = d.max_vertex_triangles});
   for (int v = 0; v < n; ++v) s.topology.AddVertex();

@@ -1,6 +1,7 @@
 #include "hapsim/core/haptics/local_force_model.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hapsim::core {
 
@@ -20,15 +21,20 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
   switch (m.state) {
     case ContactState::kFree:
       return m.feedforward_W_N;
-    case ContactState::kContact: {
-      const double penetration_m = (m.anchor_W_m - x).dot(n);
-      if (penetration_m <= 0.0) return m.feedforward_W_N;
-      const double push_N =
-          std::max(0.0, m.stiffness_N_per_m * penetration_m - m.damping_Ns_per_m * v.dot(n));
-      return m.feedforward_W_N + push_N * n;
-    }
-    case ContactState::kPunctured:
+    case ContactState::kContact:
     case ContactState::kCutting: {
+      Eigen::Vector3d f = m.feedforward_W_N;
+      const double penetration_m = (m.anchor_W_m - x).dot(n);
+      if (penetration_m > 0.0)
+        f += std::max(0.0, m.stiffness_N_per_m * penetration_m - m.damping_Ns_per_m * v.dot(n)) * n;
+      if (m.state == ContactState::kCutting) {
+        const Eigen::Vector3d& t = m.drag_direction_W;
+        const double v_t = v.dot(t);
+        f -= (m.drag_N * std::tanh(v_t / kDragSmoothingSpeed_m_per_s) + m.drag_damping_Ns_per_m * v_t) * t;
+      }
+      return f;
+    }
+    case ContactState::kPunctured: {
       const Eigen::Vector3d r = x - m.anchor_W_m;
       const Eigen::Vector3d lateral = r - r.dot(n) * n;
       return m.feedforward_W_N - m.stiffness_N_per_m * lateral - m.damping_Ns_per_m * v.dot(n) * n;

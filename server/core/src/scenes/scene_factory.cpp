@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
+#include "hapsim/core/scenes/cutting/cutting_params.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/scene_builders.h"
 #include "hapsim/core/scenes/tissue_block/tissue_block_params.h"
@@ -14,7 +15,8 @@ const char* ToString(SceneEventKind k) {
     case SceneEventKind::kContactBegin: return "contact_begin";
     case SceneEventKind::kContactEnd: return "contact_end";
     case SceneEventKind::kPuncture: return "puncture";
-    case SceneEventKind::kCut: return "cut";
+    case SceneEventKind::kCutStart: return "cut_start";
+    case SceneEventKind::kCutEnd: return "cut_end";
     case SceneEventKind::kReset: return "reset";
   }
   return "unknown";
@@ -34,6 +36,9 @@ constexpr CatalogEntry kCatalog[] = {
     {"acupuncture",
      "three-layer SH tissue (skin/fat/muscle), mass-spring force net, layered puncture and springback",
      &MakeAcupunctureScene, [] { return AcupunctureParamTable().Describe(); }},
+    {"cutting",
+     "scalpel incision on a skin patch: cylinder collision, three-stage progressive cut, residual-stress wound gape",
+     &MakeCuttingScene, [] { return CuttingParamTable().Describe(); }},
     {"tissue_block",
      "soft tissue block: mass-spring surface grid over anchored springs, pressed by a needle",
      &MakeTissueBlockScene, [] { return TissueBlockParamTable().Describe(); }},

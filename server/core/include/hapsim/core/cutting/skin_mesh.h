@@ -12,6 +12,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "hapsim/core/mesh/mesh_topology.h"
@@ -36,6 +37,7 @@ struct SkinDef {
   std::uint32_t extra_springs = 16384;
   std::uint32_t max_vertex_triangles = 24;
   std::int32_t max_node_degree = 32;
+  std::vector<std::string> extra_parts;    // part names after "skin", "wound" (e.g. a tool)
 };
 
 struct SkinMesh {

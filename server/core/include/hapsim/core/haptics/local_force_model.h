@@ -13,7 +13,7 @@ enum class ContactState : std::uint8_t {
   kFree = 0,       // nothing touched: force = f_ff (normally zero)
   kContact = 1,    // pressing a surface: half-space spring-damper at anchor/normal
   kPunctured = 2,  // needle inside tissue: lateral "tunnel" spring + axial damping
-  kCutting = 3,    // blade in tissue (cutting scenes): same law as kPunctured
+  kCutting = 3,    // blade drawing an incision: contact law on the normal plus drag along the cut
 };
 
 const char* ToString(ContactState s);
@@ -27,7 +27,17 @@ struct LocalForceModel {
   double stiffness_N_per_m = 0.0;     // k: normal (contact) or lateral (tunnel) stiffness
   double damping_Ns_per_m = 0.0;      // b: along the normal / axis
   Eigen::Vector3d feedforward_W_N = Eigen::Vector3d::Zero();  // f_ff [N], added as is
+  // kCutting only: the resistance of tissue being cut, along the incision
+  // direction t (unit, in the skin plane): a smoothed Coulomb drag plus a
+  // viscous part (see EvaluateLocalForce).
+  Eigen::Vector3d drag_direction_W = Eigen::Vector3d::Zero();
+  double drag_N = 0.0;                // Coulomb level of the cutting force [N]
+  double drag_damping_Ns_per_m = 0.0; // viscous part [N·s/m]
 };
+
+// Speed at which the smoothed Coulomb drag reaches tanh(1) = 76 % of drag_N
+// [m/s]: smoothing keeps the drag from chattering when the blade stops.
+inline constexpr double kDragSmoothingSpeed_m_per_s = 0.002;
 
 // Force on the tool tip [N] at position x_W_m moving with v_W_m_per_s, by the
 // law of model.state:
@@ -35,8 +45,11 @@ struct LocalForceModel {
 //  kContact:   p = (anchor - x)·n (penetration, m);
 //              F = f_ff + max(0, k p - b (v·n)) n  when p > 0, else f_ff
 //              (the max keeps the damper from pulling the tool into the surface)
-//  kPunctured/kCutting: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
+//  kPunctured: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
 //              F = f_ff - k d - b (v·n) n
+//  kCutting:   the kContact law on (anchor, n, k, b), plus the drag along t,
+//              v_t = v·t: F_t = -(drag_N tanh(v_t / v_s) + drag_damping v_t) t
+//              with v_s = kDragSmoothingSpeed_m_per_s
 // Pure and allocation-free: runs inside the 1 kHz servo loop.
 Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& model, const Eigen::Vector3d& x_W_m,
                                    const Eigen::Vector3d& v_W_m_per_s);

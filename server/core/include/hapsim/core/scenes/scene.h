@@ -41,7 +41,14 @@ struct ToolInput {
   std::uint32_t buttons = 0;
 };
 
-enum class SceneEventKind : std::uint8_t { kContactBegin = 0, kContactEnd = 1, kPuncture = 2, kCut = 3, kReset = 4 };
+enum class SceneEventKind : std::uint8_t {
+  kContactBegin = 0,
+  kContactEnd = 1,
+  kPuncture = 2,
+  kCutStart = 3,  // a blade began an incision (where: its start)
+  kReset = 4,
+  kCutEnd = 5,    // the blade left the incision (where: its end; value: its length [m])
+};
 const char* ToString(SceneEventKind k);
 
 struct SceneEvent {
@@ -49,6 +56,7 @@ struct SceneEvent {
   SceneEventKind kind = SceneEventKind::kContactBegin;
   int layer = -1;    // index into Status().layer_names, -1 if none
   Eigen::Vector3d where_W_m = Eigen::Vector3d::Zero();
+  double value = 0.0;  // kCutEnd: incision length [m]; 0 otherwise
 };
 
 struct SceneStatus {

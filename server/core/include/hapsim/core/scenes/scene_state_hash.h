@@ -24,6 +24,8 @@ struct ResetEpoch {
 inline void AddToHash(StateHasher& h, const LocalForceModel& m) {
   h.Add(m.state).Add(m.anchor_W_m).Add(m.normal_W).Add(m.stiffness_N_per_m).Add(m.damping_Ns_per_m)
       .Add(m.feedforward_W_N);
+  // Only a cutting model has drag (the other scenes' golden hashes stay as pinned).
+  if (m.state == ContactState::kCutting) h.Add(m.drag_direction_W).Add(m.drag_N).Add(m.drag_damping_Ns_per_m);
 }
 
 // Never allocates (ForceModel() returns a fixed-size value).

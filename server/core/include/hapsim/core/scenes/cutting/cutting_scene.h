@@ -1,0 +1,115 @@
+// cutting: the cutting paper's scalpel incision on skin (MISSION.md §2) as a
+// Scene. Skin: cutting/skin_mesh.h (a 60 x 40 mm mass-spring patch, anchored
+// underneath, the paper's Table 1). The scalpel is a cylinder from the tool
+// tip along the tool (paper §2.2); its collisions are found by the paper's
+// two-angle + distance test behind a grid broad phase.
+//
+//   free ──tip below the surface── pressing: the tip-skin penalty pushes the
+//     tool up (reaction on the nodes under the tip), nodes inside the blade
+//     cylinder are pushed out from its axis (the paper's force "from N along
+//     N -> p"); kContact.
+//   pressing ──tip deeper than cut_depth_m── cutting (event cut_start): the
+//     blade's crossing of the skin plane starts the incision curve; each
+//     segment_length_m of travel commits a segment (three-stage cut,
+//     cutting/skin_cutter.h); the tool feels kCutting: a drag along the
+//     incision (cut_force_N, smoothed Coulomb, plus cut_damping_Ns_per_m).
+//   cutting ──tip above the surface, off the patch, or the tool gone──
+//     free (event cut_end, value = the incision's length).
+//
+// Residual stress sigma_r = E eps_r acts on the wound faces every tick
+// (ApplyResidualStress), so the wound gapes; node masses are lumped from an
+// areal density with interior nodes of node_mass_kg (docs/validation.md on
+// why m > D^2/4K).
+//
+// Mesh: vertex slot = MSM node (skin and the nodes cuts add), plus eight
+// fixed slots for the blade; parts "skin", "wound" (triangles a cut made),
+// "blade". [decide] The skin plane z = 0 is the surface for the cut depth
+// (the skin moves a millimetre at most under a blade).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "hapsim/core/cutting/cylinder_collision.h"
+#include "hapsim/core/cutting/incision_curve.h"
+#include "hapsim/core/cutting/skin_cutter.h"
+#include "hapsim/core/cutting/skin_mesh.h"
+#include "hapsim/core/msm/msm_step.h"
+#include "hapsim/core/scenes/cutting/cutting_params.h"
+#include "hapsim/core/scenes/event_log.h"
+#include "hapsim/core/scenes/scene.h"
+#include "hapsim/core/scenes/scene_state_hash.h"
+#include "hapsim/core/spatial/uniform_grid.h"
+
+namespace hapsim::core {
+
+class CuttingScene final : public Scene {
+ public:
+  explicit CuttingScene(const CuttingParams& params);  // throws std::invalid_argument on bad params
+
+  std::string_view Name() const override { return "cutting"; }
+  void Step(const ToolInput& tool, double dt_s) override;
+  void Reset() override;
+  double SimTime_s() const override { return skin_.state.t_s; }
+  const Eigen::Matrix3Xd& Vertices_m() const override { return skin_.state.x_m; }
+  const MeshTopology& Topology() const override { return skin_.topology; }
+  LocalForceModel ForceModel() const override { return force_model_; }
+  Eigen::Vector3d ToolForce_W_N() const override { return force_W_N_; }
+  std::span<const SceneEvent> Events() const override { return events_.View(); }
+  std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
+  const SceneStatus& Status() const override { return status_; }
+  std::uint64_t StateHash() const override;
+
+  // For validation and tests.
+  const CuttingParams& Params() const { return params_; }
+  const SkinMesh& Skin() const { return skin_; }
+  const IncisionCurve& Incision() const { return curve_; }
+  bool Cutting() const { return cutting_; }
+  const std::vector<std::uint32_t>& CollidingNodes() const { return colliding_; }  // last step, ascending
+  const CutStats& CutTotals() const { return cut_totals_; }
+  double ResidualStress_Pa() const { return params_.youngs_modulus_Pa * params_.residual_strain; }
+  // The blade cylinder for a tool pose.
+  Cylinder BladeOf(const ToolInput& tool) const;
+
+ private:
+  void StepOnce(const ToolInput& tool, double h_s);
+  void UpdateCut(const ToolInput& tool, const Cylinder& blade);
+  void EndCut(const Eigen::Vector3d& where);
+  void ApplyContact(const ToolInput& tool, const Cylinder& blade);
+  void UpdateForceModel(const ToolInput& tool);
+  void UpdateBladeMesh(const Cylinder& blade);
+  void Log(SceneEventKind kind, const Eigen::Vector3d& where, double value = 0.0);
+  void NumericalReset();
+
+  CuttingParams params_;
+  SkinMesh skin_;
+  MsmModel initial_model_;  // the skin before any cut (Reset)
+  MsmState initial_state_;
+  std::vector<std::uint8_t> initial_on_lip_;
+  MsmWorkspace workspace_;
+  SkinCutter cutter_;
+  CutConfig cut_config_;
+  IncisionCurve curve_;
+  UniformGrid grid_;              // current skin node positions, rebuilt when the blade is near
+  Eigen::AlignedBox3d skin_box_;  // where the skin can be (rest box grown by 10 mm)
+  std::array<std::uint32_t, 8> blade_slots_{};
+  std::vector<std::uint32_t> colliding_;
+  std::vector<std::uint32_t> loaded_nodes_;  // nodes given contact forces this step
+
+  bool cutting_ = false;
+  bool in_contact_ = false;
+  Eigen::Vector2d last_surface_point_ = Eigen::Vector2d::Zero();
+  CutStats cut_totals_;
+  Eigen::Vector3d force_W_N_ = Eigen::Vector3d::Zero();
+  LocalForceModel force_model_;
+  EventLog events_;
+  SceneStatus status_;
+  ResetEpoch reset_epoch_;
+  // StateHash's cache: the digest of the topology-dependent model arrays.
+  mutable std::uint64_t digest_version_ = ~std::uint64_t{0};
+  mutable std::uint64_t topology_digest_ = 0;
+};
+
+}  // namespace hapsim::core
