@@ -8,10 +8,15 @@ namespace hapsim::bridge {
 
 SyntheticDevice::SyntheticDevice(SyntheticScript script) : script_(std::move(script)), rng_(script_.seed) {
   const auto& s = script_;
-  if (s.kind != "insertion" && s.kind != "constant_speed" && s.kind != "random_walk" && s.kind != "hold") {
+  if (s.kind != "insertion" && s.kind != "constant_speed" && s.kind != "random_walk" && s.kind != "hold" &&
+      s.kind != "cut") {
     throw std::invalid_argument("unknown synthetic script '" + s.kind +
-                                "' (insertion, constant_speed, random_walk, hold)");
+                                "' (insertion, constant_speed, random_walk, hold, cut)");
   }
+  if (!(s.cut_length_m > 0.0 && s.cut_length_m <= 0.3)) throw std::invalid_argument("cut length must be in (0, 0.3] m");
+  if (!(std::abs(s.cut_bend_rad) <= 3.2 && std::isfinite(s.cut_angle_rad)))
+    throw std::invalid_argument("cut bend must be within ±3.2 rad (±180°) and the angle finite");
+  if (!(s.blade_tilt_rad >= 0.0 && s.blade_tilt_rad <= 1.2)) throw std::invalid_argument("blade tilt must be in [0, 1.2] rad");
   if (!(s.speed_m_per_s > 0.0 && s.speed_m_per_s <= 1.0)) throw std::invalid_argument("speed must be in (0, 1] m/s");
   if (!(s.depth_m >= 0.0 && s.depth_m <= 0.2)) throw std::invalid_argument("depth must be in [0, 0.2] m");
   if (!(s.start_height_m >= 0.0 && s.start_height_m <= 0.2)) throw std::invalid_argument("start height must be in [0, 0.2] m");
@@ -58,9 +63,60 @@ double SyntheticDevice::ScriptHeight(const SyntheticScript& s, double t, const c
   return -s.depth_m + v * tc;
 }
 
+DeviceReading SyntheticDevice::CutPose(const SyntheticScript& s, double t) {
+  DeviceReading r;
+  const double v = s.speed_m_per_s;
+  const double t_approach = s.start_height_m / v, t_press = s.depth_m / v, t_draw = s.cut_length_m / v;
+  const double t_lift = (s.start_height_m + s.depth_m) / v;
+  // Along the stroke: arc length u -> point and heading (a straight line
+  // or an arc of total turn cut_bend_rad).
+  auto path = [&](double u, Eigen::Vector2d* heading) {
+    const double a0 = s.cut_angle_rad, k = s.cut_bend_rad / s.cut_length_m;
+    const double a = a0 + k * u;
+    *heading = Eigen::Vector2d(std::cos(a), std::sin(a));
+    if (std::abs(k) < 1e-9) return Eigen::Vector2d(u * std::cos(a0), u * std::sin(a0));
+    return Eigen::Vector2d((std::sin(a) - std::sin(a0)) / k, (std::cos(a0) - std::cos(a)) / k);
+  };
+  const Eigen::Vector2d entry = s.entry_W_m.head<2>();
+  Eigen::Vector2d heading;
+  double u = 0.0, z = s.start_height_m, vz = 0.0, vu = 0.0;
+  if (t < t_approach) {
+    r.phase = "approach";
+    z = s.start_height_m - v * t;
+    vz = -v;
+  } else if (t < t_approach + t_press) {
+    r.phase = "press";
+    z = -v * (t - t_approach);
+    vz = -v;
+  } else if (t < t_approach + t_press + t_draw) {
+    r.phase = "cut";
+    z = -s.depth_m;
+    u = v * (t - t_approach - t_press);
+    vu = v;
+  } else if (t < t_approach + t_press + t_draw + t_lift) {
+    r.phase = "lift";
+    u = s.cut_length_m;
+    z = -s.depth_m + v * (t - t_approach - t_press - t_draw);
+    vz = v;
+  } else {
+    r.phase = "done";
+    u = s.cut_length_m;
+    r.finished = true;
+  }
+  const Eigen::Vector2d at = entry + path(u, &heading);
+  r.tip_W_m = Eigen::Vector3d(at.x(), at.y(), s.entry_W_m.z() + z);
+  r.velocity_W_m_per_s = Eigen::Vector3d(vu * heading.x(), vu * heading.y(), vz);
+  // The blade's up axis (orientation * +z) leans back against the stroke.
+  const Eigen::Vector3d up(-std::sin(s.blade_tilt_rad) * heading.x(), -std::sin(s.blade_tilt_rad) * heading.y(),
+                           std::cos(s.blade_tilt_rad));
+  r.orientation_W = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up);
+  return r;
+}
+
 DeviceReading SyntheticDevice::Read(double t_s) {
   DeviceReading r;
   const auto& s = script_;
+  if (s.kind == "cut") return CutPose(s, t_s);
   if (s.kind == "hold") {
     r.tip_W_m = s.entry_W_m + Eigen::Vector3d(0, 0, s.start_height_m);
     r.phase = "hold";

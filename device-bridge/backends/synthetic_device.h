@@ -11,6 +11,11 @@
 //  random_walk     bounded, seeded random walk of the tip around the
 //                  surface (palpation-like noise; deterministic per seed).
 //  hold            the tip stays at the start height (no contact).
+//  cut             a scalpel stroke, once: approach the entry point, press
+//                  to depth_m, draw an incision of cut_length_m heading
+//                  cut_angle_rad (bending by cut_bend_rad along it: 0 is
+//                  straight), lift to the start height, rest ("done"). The
+//                  blade leans back against the stroke by blade_tilt_rad.
 #pragma once
 #include <cstdint>
 #include <random>
@@ -30,6 +35,10 @@ struct SyntheticScript {
   double walk_step_m = 0.0005;    // random-walk step per 1 ms tick (std dev)
   double walk_radius_m = 0.01;    // random-walk bound around the entry point
   std::uint32_t seed = 1;
+  double cut_length_m = 0.02;     // cut: incision length
+  double cut_angle_rad = 0.0;     // cut: initial heading in the skin plane (0: +x)
+  double cut_bend_rad = 0.0;      // cut: heading change over the incision (an arc)
+  double blade_tilt_rad = 0.5236; // cut: blade leaning back from vertical (30°)
 };
 
 class SyntheticDevice final : public HapticDevice {
@@ -43,6 +52,8 @@ class SyntheticDevice final : public HapticDevice {
   // Height of the tip relative to the surface [m] and phase at time t of the
   // insertion / constant-speed scripts (pure; used by Read and by tests).
   static double ScriptHeight(const SyntheticScript& s, double t_s, const char** phase, double* vz);
+  // The cut script's tip, velocity and orientation at time t (pure).
+  static DeviceReading CutPose(const SyntheticScript& s, double t_s);
 
  private:
   SyntheticScript script_;

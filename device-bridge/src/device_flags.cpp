@@ -15,17 +15,26 @@ SyntheticScript ScriptFlags::ToScript() const {
   s.hold_s = hold_s;
   s.entry_W_m = Eigen::Vector3d(entry_x_mm * 1e-3, entry_y_mm * 1e-3, 0.0);
   s.seed = static_cast<std::uint32_t>(seed);
+  constexpr double kRad = 3.14159265358979323846 / 180.0;
+  s.cut_length_m = cut_length_mm * 1e-3;
+  s.cut_angle_rad = cut_angle_deg * kRad;
+  s.cut_bend_rad = cut_bend_deg * kRad;
+  s.blade_tilt_rad = blade_tilt_deg * kRad;
   return s;
 }
 
 void AddScriptFlags(common::Flags& flags, ScriptFlags* s, const std::string& seed_help) {
-  flags.Add("script", &s->kind, "synthetic script: insertion, constant_speed, random_walk or hold");
+  flags.Add("script", &s->kind, "synthetic script: insertion, constant_speed, random_walk, hold or cut");
   flags.Add("depth-mm", &s->depth_mm, "synthetic: deepest tip position below the surface [mm]");
   flags.Add("speed-mm-s", &s->speed_mm_s, "synthetic: tip speed [mm/s]");
   flags.Add("start-height-mm", &s->start_height_mm, "synthetic: height above the surface where motion starts [mm]");
   flags.Add("hold-s", &s->hold_s, "synthetic insertion: time held at depth [s]");
   flags.Add("entry-x-mm", &s->entry_x_mm, "synthetic: x of the entry point on the surface [mm]");
   flags.Add("entry-y-mm", &s->entry_y_mm, "synthetic: y of the entry point on the surface [mm]");
+  flags.Add("cut-length-mm", &s->cut_length_mm, "synthetic cut: incision length [mm]");
+  flags.Add("cut-angle-deg", &s->cut_angle_deg, "synthetic cut: heading of the stroke in the skin plane (0: +x) [deg]");
+  flags.Add("cut-bend-deg", &s->cut_bend_deg, "synthetic cut: heading change over the stroke (0: straight) [deg]");
+  flags.Add("blade-tilt-deg", &s->blade_tilt_deg, "synthetic cut: blade leaning back from vertical [deg]");
   flags.Add("seed", &s->seed, seed_help);
 }
 

@@ -27,6 +27,42 @@ TEST(SyntheticInsertion, FollowsApproachPressHoldWithdrawAtTheScriptedSpeed) {
   EXPECT_FALSE(at(100.0).finished);               // insertion repeats
 }
 
+// The cut stroke: approach, press, draw along a straight line or an arc
+// (positions against the circle's closed form, velocity against a finite
+// difference), blade leaning back against the stroke, lift, done.
+TEST(SyntheticCut, DrawsTheIncisionAlongItsPathWithTheBladeLeaningBack) {
+  SyntheticScript s;
+  s.kind = "cut";
+  s.start_height_m = 0.005;
+  s.depth_m = 0.0015;
+  s.speed_m_per_s = 0.01;
+  s.cut_length_m = 0.02;
+  s.entry_W_m = Eigen::Vector3d(-0.01, 0.002, 0.0);
+  SyntheticDevice straight(s);
+  EXPECT_STREQ(straight.Read(0.2).phase, "approach");
+  EXPECT_STREQ(straight.Read(0.6).phase, "press");  // surface at 0.5 s, depth at 0.65 s
+  const DeviceReading mid = straight.Read(0.65 + 1.0);
+  EXPECT_STREQ(mid.phase, "cut");
+  EXPECT_LT((mid.tip_W_m - Eigen::Vector3d(0.0, 0.002, -0.0015)).norm(), 1e-12);
+  EXPECT_LT((mid.velocity_W_m_per_s - Eigen::Vector3d(0.01, 0, 0)).norm(), 1e-12);
+  const Eigen::Vector3d up = mid.orientation_W * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(std::acos(up.z()), s.blade_tilt_rad, 1e-9);
+  EXPECT_LT(up.x(), 0.0);  // leaning back against +x
+  EXPECT_STREQ(straight.Read(2.65 + 0.1).phase, "lift");
+  EXPECT_TRUE(straight.Read(10.0).finished);
+  EXPECT_LT((straight.Read(10.0).tip_W_m - Eigen::Vector3d(0.01, 0.002, 0.005)).norm(), 1e-12);
+
+  s.cut_bend_rad = 3.14159265358979323846 / 2;  // a quarter circle of radius 20 mm / (pi/2)
+  SyntheticDevice arc(s);
+  const double radius = s.cut_length_m / s.cut_bend_rad;
+  const DeviceReading end = arc.Read(0.65 + 2.0 - 1e-9);
+  EXPECT_LT((end.tip_W_m.head<2>() - (s.entry_W_m.head<2>() + Eigen::Vector2d(radius, radius))).norm(), 1e-9);
+  const DeviceReading a = arc.Read(1.2), b = arc.Read(1.2 + 1e-6);
+  EXPECT_LT(((b.tip_W_m - a.tip_W_m) / 1e-6 - a.velocity_W_m_per_s).norm(), 1e-6);
+  s.cut_length_m = 0.0;
+  EXPECT_THROW(SyntheticDevice{s}, std::invalid_argument);
+}
+
 TEST(SyntheticConstantSpeed, RunsOnceInAndOutThenFinishes) {
   SyntheticScript s;
   s.kind = "constant_speed";

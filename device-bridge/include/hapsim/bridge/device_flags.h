@@ -16,6 +16,7 @@ struct ScriptFlags {
   std::string kind = "insertion";
   double depth_mm = 5.0, speed_mm_s = 10.0, start_height_mm = 10.0, hold_s = 0.5;
   double entry_x_mm = 0.0, entry_y_mm = 0.0;
+  double cut_length_mm = 20.0, cut_angle_deg = 0.0, cut_bend_deg = 0.0, blade_tilt_deg = 30.0;
   int seed = 1;
   SyntheticScript ToScript() const;
 };

@@ -87,7 +87,6 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   s.lip_nodes.reserve(vcap);
   s.wound_edges.reserve(static_cast<std::size_t>(vcap) * 2);
   for (int v = 0; v < n; ++v) RelumpNodeMass(s, static_cast<std::uint32_t>(v));
-  s.mass_floor_hits = 0;
   return s;
 }
 
@@ -106,15 +105,15 @@ void RelumpNodeMass(SkinMesh& s, std::uint32_t v) {
 
 double TotalNodeMass_kg(const SkinMesh& s) {
   double m = 0.0;
-  for (std::uint32_t v = 0; v < s.topology.Vertices().HighWater(); ++v)
-    if (s.topology.Vertices().IsLive(v)) m += s.model.mass_kg[static_cast<Eigen::Index>(v)];
+  for (std::int32_t v = 0; v < s.model.num_nodes; ++v)
+    if (s.model.node_live[static_cast<std::size_t>(v)]) m += s.model.mass_kg[v];  // skin nodes only (not a tool's slots)
   return m;
 }
 
 double LiveRestArea_m2(const SkinMesh& s) {
   double a = 0.0;
   for (std::uint32_t t = 0; t < s.topology.Triangles().HighWater(); ++t)
-    if (s.topology.Triangles().IsLive(t)) a += RestArea(s, t);
+    if (s.topology.Triangles().IsLive(t) && s.topology.TrianglePart(t) <= kWoundPart) a += RestArea(s, t);
   return a;
 }
 
@@ -122,12 +121,15 @@ void ApplyResidualStress(SkinMesh& s, double sigma_r_Pa, double thickness_m) {
   for (const std::uint32_t v : s.lip_nodes) s.state.f_residual_N.col(v).setZero();
   const double traction_N_per_m = sigma_r_Pa * thickness_m;
   for (const auto& [a, b] : s.wound_edges) {
+    // The face's area from the rest length (small strain: a face stretched
+    // by the motion must not pull harder, or a loose node would run away);
+    // its direction from the current edge: left of a -> b, z x e.
+    const double rest_m = (s.model.x0_m.col(b) - s.model.x0_m.col(a)).norm();
     const Eigen::Vector3d e = s.state.x_m.col(b) - s.state.x_m.col(a);
-    // Left of a -> b in the skin plane (the tissue side): z x e.
     const Eigen::Vector3d left(-e.y(), e.x(), 0.0);
     const double l = left.norm();
     if (!(l > 0.0)) continue;
-    const Eigen::Vector3d half = (0.5 * traction_N_per_m) * left;  // |left| = |e|: sigma_r t |e| / 2 along the unit normal
+    const Eigen::Vector3d half = (0.5 * traction_N_per_m * rest_m / l) * left;  // sigma_r t l0 / 2 along the unit normal
     s.state.f_residual_N.col(a) += half;
     s.state.f_residual_N.col(b) += half;
   }

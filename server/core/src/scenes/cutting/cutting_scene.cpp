@@ -264,11 +264,14 @@ void CuttingScene::UpdateForceModel(const ToolInput& tool) {
     m.normal_W = Eigen::Vector3d::UnitZ();
     m.stiffness_N_per_m = std::min(params_.contact_stiffness_N_per_m, params_.render_stiffness_max_N_per_m);
     m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
-    // k p - b v_z = push at the current tip: p = (push + b v_z) / k; no push: the plane at the tip.
+    // k p - b v_z = push at the current tip: p = (push + b v_z) / k (without
+    // the damper if that would put the plane below the tip); no push: the
+    // plane at the tip.
     const double push = std::max(0.0, force_W_N_.z());
+    if (push + m.damping_Ns_per_m * tool.velocity_W_m_per_s.z() <= 0.0) m.damping_Ns_per_m = 0.0;
     const double p = push > 0.0 ? (push + m.damping_Ns_per_m * tool.velocity_W_m_per_s.z()) / m.stiffness_N_per_m : 0.0;
     m.anchor_W_m = tip + Eigen::Vector3d(0.0, 0.0, p);
-    m.feedforward_W_N = Eigen::Vector3d(force_W_N_.x(), force_W_N_.y(), 0.0);
+    m.feedforward_W_N = force_W_N_ - push * Eigen::Vector3d::UnitZ();  // what the normal law does not give
   }
   force_model_ = m;
 }

@@ -67,9 +67,10 @@ double TotalNodeMass_kg(const SkinMesh& skin);
 double LiveRestArea_m2(const SkinMesh& skin);  // sum of the live triangles' rest areas
 
 // Residual stress on the wound (cutting paper eqs. 3-4): each wound edge of
-// current length l carries sigma_r t l, half on each end, in the skin plane
-// perpendicular to the edge, towards the tissue — the wound lips are pulled
-// apart as the cut releases the skin's tension. Writes f_residual_N of the
+// rest length l0 carries sigma_r t l0 (the face's area times the stress),
+// half on each end, in the skin plane perpendicular to the edge as it is
+// now, towards the tissue — the wound lips are pulled apart as the cut
+// releases the skin's tension. Writes f_residual_N of the
 // lip nodes (zeroing the others it wrote before). No allocation.
 void ApplyResidualStress(SkinMesh& skin, double sigma_r_Pa, double thickness_m);
 
