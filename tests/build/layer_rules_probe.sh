@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# Proves the layer rules (cmake/HapsimLayerRules.cmake) fail the configure
+# on a violation, for both kinds of check: a probe project with the real
+# rule files, stub targets named like ours and a stub source tree is
+# configured once clean (must pass) and once per injected violation (must
+# fail naming it). Bounded: ~1 s per configure, all in a temp directory.
+#   tests/build/layer_rules_probe.sh SOURCE_DIR WORK_DIR
+set -euo pipefail
+src=$(cd "${1:?usage: $0 SOURCE_DIR WORK_DIR}" && pwd)
+work=${2:?usage: $0 SOURCE_DIR WORK_DIR}
+rm -rf "$work" && mkdir -p "$work"
+failures=0
+
+# make_tree DIR: the stub tree — real rule files, one clean source per layer.
+make_tree() {
+  local t=$1
+  mkdir -p "$t/cmake" "$t/server/core/src" "$t/server/io/src" "$t/server/common/src" "$t/server/dds/src" \
+           "$t/server/service/src" "$t/device-bridge/include" "$t/device-bridge/src" "$t/device-bridge/backends" \
+           "$t/client-viewer/src"
+  cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
+  echo '#include <Eigen/Core>' >"$t/server/core/src/step.cpp"
+  printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/server/core/src/assert.cpp"  # the one allowed writer
+  echo '#include <fstream>' >"$t/server/io/src/reader.cpp"
+  echo '#include <spdlog/spdlog.h>' >"$t/server/common/src/logging.cpp"
+  echo '#include <dds/dds.h>' >"$t/server/dds/src/dds.cpp"
+  echo '#include <grpcpp/grpcpp.h>' >"$t/server/service/src/service.cpp"
+  echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/src/bridge.cpp"
+  echo '#include <asio/signal_set.hpp>' >"$t/device-bridge/main.cpp"
+  echo '#include <grpcpp/grpcpp.h>' >"$t/client-viewer/src/client.cpp"
+  cat >"$t/CMakeLists.txt" <<'CMAKE'
+cmake_minimum_required(VERSION 3.25)
+project(layer_probe NONE)
+list(APPEND CMAKE_MODULE_PATH ${CMAKE_CURRENT_SOURCE_DIR}/cmake)
+set(HAPSIM_CORE_ONLY OFF)
+# Stub externals and stub targets with our names and our real link graph.
+foreach(ext Eigen3::Eigen spdlog::spdlog CycloneDDS::ddsc protobuf::libprotobuf gRPC::grpc gRPC::grpc++)
+  add_library(${ext} INTERFACE IMPORTED)
+endforeach()
+target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
+foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_proto hapsim_service
+          hapsim_bridge hapsim_viewer)
+  add_library(${t} INTERFACE)
+endforeach()
+foreach(t hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate)
+  add_custom_target(${t})
+endforeach()
+function(link t)
+  target_link_libraries(${t} INTERFACE ${ARGN})
+endfunction()
+link(hapsim_core Eigen3::Eigen)
+link(hapsim_io hapsim_core)
+link(hapsim_common spdlog::spdlog)
+link(hapsim_dds_types CycloneDDS::ddsc)
+link(hapsim_dds hapsim_common hapsim_dds_types)
+link(hapsim_proto protobuf::libprotobuf gRPC::grpc++)
+link(hapsim_service hapsim_core hapsim_common hapsim_dds hapsim_proto gRPC::grpc++)
+link(hapsim_bridge hapsim_core hapsim_common hapsim_dds)
+link(hapsim_viewer hapsim_proto hapsim_common gRPC::grpc++ Eigen3::Eigen)
+include(${CMAKE_CURRENT_SOURCE_DIR}/probe.cmake OPTIONAL)  # the injected violation, if any
+include(HapsimLayerRules)
+CMAKE
+}
+
+# expect NAME pass|fail [MESSAGE-REGEX] [SETUP-COMMAND...]
+expect() {
+  local name=$1 want=$2 regex=$3; shift 3
+  local t="$work/$name"
+  make_tree "$t"
+  (cd "$t" && "$@")
+  local rc=0
+  cmake -S "$t" -B "$t/build" >"$t/configure.log" 2>&1 || rc=$?
+  # CMake wraps long messages: one line, single spaces, for the regex.
+  tr '\n' ' ' <"$t/configure.log" | tr -s ' ' >"$t/configure.txt"
+  if [ "$want" = pass ] && [ $rc -eq 0 ]; then
+    echo "ok   $name: configures"
+  elif [ "$want" = fail ] && [ $rc -ne 0 ] && grep -Eq "$regex" "$t/configure.txt"; then
+    echo "ok   $name: refused (...$(grep -Eo "$regex" "$t/configure.txt" | head -1 | rev | cut -c1-90 | rev))"
+  else
+    echo "FAIL $name: wanted $want${regex:+ /$regex/}, configure exit $rc"; sed 's/^/     /' "$t/configure.log" | tail -8
+    failures=$((failures + 1))
+  fi
+}
+
+expect clean pass "" true
+expect core_includes_thread fail "hapsim::core may not include.*<thread>" \
+  sh -c 'echo "#include <thread>" >>server/core/src/step.cpp'
+expect core_includes_fstream fail "hapsim::core may not include.*<fstream>" \
+  sh -c 'echo "#include <fstream>" >server/core/src/mesh_file.cpp'
+expect core_includes_the_clock fail "hapsim::core may not include.*<chrono>" \
+  sh -c 'echo "#include <chrono>" >>server/core/src/step.cpp'
+expect core_includes_common fail "hapsim::core may not include.*hapsim/common/" \
+  sh -c 'echo "#include \"hapsim/common/clock.h\"" >>server/core/src/step.cpp'
+expect core_includes_dds fail "hapsim::core may not include.*dds/dds.h" \
+  sh -c 'echo "#include <dds/dds.h>" >>server/core/src/step.cpp'
+expect bridge_includes_grpc fail "hapsim::bridge may not include.*grpcpp" \
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/src/bridge.cpp'
+expect viewer_includes_service fail "hapsim::viewer may not include.*hapsim/service/" \
+  sh -c 'echo "#include \"hapsim/service/session.h\"" >>client-viewer/src/client.cpp'
+expect common_includes_dds fail "hapsim::common may not include.*haptics" \
+  sh -c 'echo "#include \"haptics.h\"" >>server/common/src/logging.cpp'
+expect core_links_common fail "hapsim_core links hapsim_common" \
+  sh -c 'echo "link(hapsim_core hapsim_common)" >probe.cmake'
+expect viewer_links_service fail "hapsim_viewer links hapsim_service" \
+  sh -c 'echo "link(hapsim_viewer hapsim_service)" >probe.cmake'
+expect viewer_links_core_through_another fail "hapsim-viewer links hapsim_(io|core)" \
+  sh -c 'echo "add_library(viewer_helper INTERFACE)
+link(viewer_helper hapsim_io)
+add_dependencies(hapsim-viewer viewer_helper)
+set_property(TARGET hapsim-viewer PROPERTY INTERFACE_LINK_LIBRARIES viewer_helper)" >probe.cmake'
+expect bridge_links_grpc fail "hapsim_bridge links gRPC::grpc" \
+  sh -c 'echo "link(hapsim_bridge gRPC::grpc++)" >probe.cmake'
+expect dds_links_proto fail "hapsim_dds links hapsim_proto" \
+  sh -c 'echo "link(hapsim_dds hapsim_proto)" >probe.cmake'
+
+echo "$failures failed"
+[ $failures -eq 0 ]
