@@ -29,7 +29,7 @@ constexpr double kTick_s = 1e-3;
 // libm may change its value.
 const std::map<std::string, std::uint64_t> kGoldenHash = {
     {"acupuncture", 6776785728006473131ull},
-    {"cutting", 14591441089350963947ull},
+    {"cutting", 1957159093851242908ull},
     {"tissue_block", 3148907841125443309ull},
 };
 

@@ -96,6 +96,19 @@ inline std::string Violation(const SkinMesh& s, double area_m2, bool whole_patch
     if (t.Vertices().IsLive(v) && t.VertexUses(v) == 0) return "live vertex " + std::to_string(v) + " in no triangle";
   }
   if (const std::string overlap = Overlap(s); !overlap.empty()) return overlap;
+  // The wound's bookkeeping: each lip node listed once, live and marked; each
+  // wound edge a boundary edge of the skin listed once (else residual stress
+  // pulls a face twice).
+  std::map<std::uint32_t, int> listed;
+  for (const std::uint32_t v : s.lip_nodes) {
+    if (++listed[v] > 1) return "lip node " + std::to_string(v) + " listed twice";
+    if (!t.Vertices().IsLive(v) || !s.on_lip[v]) return "lip node " + std::to_string(v) + " dead or unmarked";
+  }
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> faces;
+  for (const auto& [a, b] : s.wound_edges) {
+    if (++faces[{a, b}] > 1) return "wound edge " + std::to_string(a) + "-" + std::to_string(b) + " listed twice";
+    if (directed[{a, b}] != 1 || directed[{b, a}] != 0) return "wound edge " + std::to_string(a) + "-" + std::to_string(b) + " is not a boundary edge";
+  }
   if (whole_patch) {
     const double area = LiveRestArea_m2(s);
     if (std::abs(area - area_m2) > area_tolerance_m2) return "rest area differs by " + std::to_string((area - area_m2) * 1e6) + " mm^2";

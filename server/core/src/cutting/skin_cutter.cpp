@@ -224,8 +224,33 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
   for (const ChainNode& n : chain_)
     if (n.side != 0 || (n.lip != kNoSlot && lips_[n.lip].node == n.node && n.s > 0.0 && n.s < end_s)) params_.push_back(n.s);
   std::sort(params_.begin(), params_.end());
-  params_.erase(std::unique(params_.begin(), params_.end(), [](double a, double b) { return b - a < 1e-12; }),
-                params_.end());
+  // Matches closer than a third of a spacing along the curve share one wound
+  // node (else the quadrilaterals between them are slivers); old lips keep
+  // theirs. Every side match then snaps to its shared parameter.
+  const double merge_m = skin.def.spacing_m / 3.0;
+  auto arc_gap = [&](double a, double b) {
+    const int seg = std::clamp(static_cast<int>(a), 0, curve.Segments() - 1);
+    const auto& c = curve.Controls(seg);
+    return (b - a) * (c[3] - c[0]).norm();  // chord length per unit of parameter
+  };
+  auto is_old_lip = [&](double v) {
+    for (const ChainNode& n : chain_)
+      if (n.side == 0 && n.lip != kNoSlot && lips_[n.lip].node == n.node && std::abs(n.s - v) < 1e-12) return true;
+    return false;
+  };
+  std::size_t kept = 0;
+  for (std::size_t m = 0; m < params_.size(); ++m) {
+    if (kept > 0 && arc_gap(params_[kept - 1], params_[m]) < merge_m && !is_old_lip(params_[m])) continue;
+    params_[kept++] = params_[m];
+  }
+  params_.resize(kept);
+  for (ChainNode& n : chain_) {
+    if (n.side == 0 || params_.empty()) continue;
+    const auto it = std::lower_bound(params_.begin(), params_.end(), n.s);
+    double snapped = it == params_.end() ? params_.back() : *it;
+    if (it != params_.begin() && (it == params_.end() || n.s - *(it - 1) < *it - n.s)) snapped = *(it - 1);
+    n.s = snapped;
+  }
   left_lips_.assign(params_.size(), kNoSlot);
   right_lips_.assign(params_.size(), kNoSlot);
   for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
@@ -268,7 +293,7 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
 
 std::size_t SkinCutter::ParamIndex(double s) const {
   const auto it = std::lower_bound(params_.begin(), params_.end(), s - 1e-12);
-  return static_cast<std::size_t>(it - params_.begin());
+  return std::min(static_cast<std::size_t>(it - params_.begin()), params_.size() - 1);
 }
 
 std::uint32_t SkinCutter::SideLip(const IncisionCurve& curve, int side, std::size_t k, std::uint32_t from_chain) {
@@ -465,6 +490,9 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
     skin.on_lip[v] = 0;
     ++st.nodes_removed;
   }
+  // Before any slot is reused by a new wound node (else a reused slot would
+  // be listed twice and its wound faces pulled twice).
+  std::erase_if(skin.lip_nodes, [&](std::uint32_t v) { return !topo.Vertices().IsLive(v); });
   // Springs of nodes near the zone whose rest segment crosses it and that
   // are not an edge of a surviving triangle (shear and bending springs
   // across the cut). Spring indices move on removal: look each up again.
@@ -532,7 +560,6 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
     if (topo.Vertices().IsLive(v)) RelumpNodeMass(skin, v);
     touched_mark_[v] = 0;
   }
-  std::erase_if(skin.lip_nodes, [&](std::uint32_t v) { return !topo.Vertices().IsLive(v); });
   RebuildWoundEdges(skin);
   clean_up();
   return st;

@@ -27,7 +27,7 @@ ParamTable<CuttingParams> MakeTable() {
             .description = "stiffness of the two-apart (bending) springs"},
            &P::bending_stiffness_N_per_m)
       .Add({.name = "damping_Ns_per_m", .unit = "N*s/m", .min = 0, .max = 100,
-            .description = "D: absolute damping of every node (paper: 3 N*s/m)"},
+            .description = "D: absolute damping of every node (paper: 3 N*s/m on a coarser mesh)"},
            &P::damping_Ns_per_m)
       .Add({.name = "node_mass_kg", .unit = "kg", .min = 1e-4, .max = 1,
             .description = "mass of an interior node (lumped from an areal density)"},
