@@ -54,6 +54,47 @@ TEST(CylinderCollision, GridBroadPhaseFindsExactlyWhatBruteForceFinds) {
   }
 }
 
+// The cutting scene's broad phase: a grid of the rest positions, queried
+// with the largest displacement since; the same answer as brute force on
+// the displaced positions, including displacements of several cells.
+TEST(CylinderCollision, RestGridWithTheLargestShiftFindsExactlyWhatBruteForceFinds) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Matrix3Xd rest(3, 2400);
+  std::vector<std::uint8_t> live(2400, 1);
+  for (int i = 0; i < 2400; ++i) {
+    rest.col(i) = Eigen::Vector3d(-0.03 + 0.001 * (i % 60), -0.02 + 0.001 * (i / 60), 0.0);
+    live[static_cast<std::size_t>(i)] = (i % 13) != 0;
+  }
+  UniformGrid grid(Eigen::AlignedBox3d(Eigen::Vector3d(-0.031, -0.021, -0.005), Eigen::Vector3d(0.031, 0.021, 0.005)),
+                   0.002, 2400);
+  grid.Build(rest, live);
+  int hits = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Smooth displacement field up to a few mm (a pressed or stretched skin).
+    const double amp = 0.006 * std::abs(u(rng));
+    const Eigen::Vector3d k(400 * u(rng), 400 * u(rng), 0.0);
+    Eigen::Matrix3Xd x = rest;
+    double max_shift = 0.0;
+    for (int i = 0; i < 2400; ++i) {
+      const double phase = k.dot(rest.col(i));
+      x.col(i) += amp * Eigen::Vector3d(std::sin(phase), std::cos(1.3 * phase), 0.5 * std::sin(0.7 * phase));
+      if (live[static_cast<std::size_t>(i)]) max_shift = std::max(max_shift, (x.col(i) - rest.col(i)).norm());
+    }
+    Cylinder c;
+    c.p0_W_m = Eigen::Vector3d(0.03 * u(rng), 0.02 * u(rng), 0.003 * u(rng));
+    const Eigen::Vector3d dir = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    c.p1_W_m = c.p0_W_m + (0.002 + 0.02 * std::abs(u(rng))) * dir;
+    c.radius_m = 0.0003 + 0.002 * std::abs(u(rng));
+    std::vector<std::uint32_t> brute, fast;
+    CollideBruteForce(c, x, live, brute);
+    CollideWithShiftedGrid(c, x, grid, max_shift, fast);
+    ASSERT_EQ(fast, brute) << "trial " << trial;
+    hits += static_cast<int>(brute.size());
+  }
+  EXPECT_GT(hits, 200);  // the poses do find nodes
+}
+
 TEST(UniformGrid, RadiusQueriesFindExactlyThePointsWithinTheRadius) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

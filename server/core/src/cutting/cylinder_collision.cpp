@@ -39,8 +39,16 @@ void CollideBruteForce(const Cylinder& c, const Eigen::Matrix3Xd& x_m, std::span
 
 void CollideWithGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,
                      std::vector<std::uint32_t>& out) {
+  CollideWithShiftedGrid(c, x_m, grid, 0.0, out);
+}
+
+void CollideWithShiftedGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,
+                            double max_shift_m, std::vector<std::uint32_t>& out) {
   out.clear();
-  grid.ForEachInBox(Bounds(c), [&](std::uint32_t i) {
+  Eigen::AlignedBox3d box = Bounds(c);
+  box.min().array() -= max_shift_m;
+  box.max().array() += max_shift_m;
+  grid.ForEachInBox(box, [&](std::uint32_t i) {
     if (InsideCylinder(c, x_m.col(i))) out.push_back(i);
   });
   std::sort(out.begin(), out.end());  // cell order -> index order (deterministic, as brute force)

@@ -78,6 +78,11 @@ SkinCutter::SkinCutter(const SkinMesh& skin) {
 
 double SkinCutter::DistanceToSegment(const Eigen::Vector3d& p) const {
   double d = std::numeric_limits<double>::infinity();
+  // Most nodes of the patch are far from the segment: a lower bound from
+  // the polyline's box rejects them without the per-piece distances.
+  const Eigen::Vector2d q = p.head<2>();
+  const double box_gap = (q - q.cwiseMax(polyline_lo_).cwiseMin(polyline_hi_)).norm();
+  if (box_gap > far_m_) return box_gap;
   for (std::size_t i = 0; i + 1 < polyline_.size(); ++i) d = std::min(d, PointSegmentDistance2D(p, polyline_[i], polyline_[i + 1]));
   return d;
 }
@@ -405,6 +410,10 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
     polyline_.emplace_back(p.x(), p.y(), 0.0);
   }
   zone_radius_m_ = config.sweep_radius_m;
+  polyline_lo_ = polyline_hi_ = polyline_.front().head<2>();
+  for (const Eigen::Vector3d& p : polyline_)
+    polyline_lo_ = polyline_lo_.cwiseMin(p.head<2>()), polyline_hi_ = polyline_hi_.cwiseMax(p.head<2>());
+  far_m_ = zone_radius_m_ + 2.5 * skin.def.spacing_m;  // the widest reach any caller asks about
 
   // Stage 1: the swept volume's nodes and their triangles.
   inside_.clear();
@@ -496,7 +505,7 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
   // Springs of nodes near the zone whose rest segment crosses it and that
   // are not an edge of a surviving triangle (shear and bending springs
   // across the cut). Spring indices move on removal: look each up again.
-  const double reach = zone_radius_m_ + 2.5 * skin.def.spacing_m;
+  const double reach = far_m_;
   for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
     if (!skin.model.node_live[v] || DistanceToSegment(skin.model.x0_m.col(v)) > reach) continue;
     for (std::int32_t e = 0; e < skin.model.DegreeOf(static_cast<std::int32_t>(v));) {

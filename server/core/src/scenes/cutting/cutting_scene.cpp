@@ -86,7 +86,7 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
   const Eigen::Vector3d margin(0.01, 0.01, 0.005);  // nodes farther out are clamped into border cells
   skin_box_ = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5 * p.patch_length_m, -0.5 * p.patch_width_m, 0.0) - margin,
                                   Eigen::Vector3d(0.5 * p.patch_length_m, 0.5 * p.patch_width_m, 0.0) + margin);
-  grid_ = UniformGrid(skin_box_, std::max(2.0 * p.blade_radius_m, 2.0 * p.spacing_m),
+  rest_grid_ = UniformGrid(skin_box_, std::max(2.0 * p.blade_radius_m, 2.0 * p.spacing_m),
                       static_cast<std::size_t>(skin_.model.num_nodes));
   colliding_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
   loaded_nodes_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
@@ -131,8 +131,11 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   force_W_N_.setZero();
   if (usable) {
     if (Bounds(blade).intersects(skin_box_)) {
-      grid_.Build(st.x_m, skin_.model.node_live);
-      CollideWithGrid(blade, st.x_m, grid_, colliding_);
+      if (rest_grid_version_ != skin_.topology.Version()) {
+        rest_grid_.Build(skin_.model.x0_m, skin_.model.node_live);
+        rest_grid_version_ = skin_.topology.Version();
+      }
+      CollideWithShiftedGrid(blade, st.x_m, rest_grid_, MaxShiftFromRest_m(), colliding_);
     }
     UpdateCut(tool, blade);
     ApplyContact(tool, blade);
@@ -317,6 +320,19 @@ void CuttingScene::Reset() {
   status_.tip_depth_m = 0.0;
   Log(SceneEventKind::kReset, Eigen::Vector3d::Zero());
   reset_epoch_ = ResetEpoch::Now(*this);
+}
+
+double CuttingScene::MaxShiftFromRest_m() const {
+  const auto& x = skin_.state.x_m;
+  const auto& x0 = skin_.model.x0_m;
+  const auto& live = skin_.model.node_live;
+  double max2 = 0.0;
+  const Eigen::Index n = std::min<Eigen::Index>(x.cols(), static_cast<Eigen::Index>(skin_.topology.Vertices().HighWater()));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double d2 = (x.col(i) - x0.col(i)).squaredNorm();
+    max2 = live[static_cast<std::size_t>(i)] && d2 > max2 ? d2 : max2;
+  }
+  return std::sqrt(max2);
 }
 
 void CuttingScene::NumericalReset() {

@@ -40,5 +40,11 @@ void CollideBruteForce(const Cylinder& c, const Eigen::Matrix3Xd& x_m, std::span
 // The same answer through a grid built from the same x_m and live flags.
 void CollideWithGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,
                      std::vector<std::uint32_t>& out);
+// The same answer through a grid built from other positions of the same
+// points (e.g. their rest positions) from which none has moved more than
+// max_shift_m: the query box grows by that much. Lets a scene keep one grid
+// between topology changes instead of rebuilding it (O(nodes)) every tick.
+void CollideWithShiftedGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,
+                            double max_shift_m, std::vector<std::uint32_t>& out);
 
 }  // namespace hapsim::core

@@ -80,6 +80,7 @@ class SkinCutter {
   };
   using Tri = std::array<std::uint32_t, 3>;  // entries: node | kLipFlag + lip index
 
+  // Rest-plane distance to the sampled segment (beyond far_m_: a lower bound).
   double DistanceToSegment(const Eigen::Vector3d& p) const;
   bool SegmentCrossesZone(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   bool PlanChains(const SkinMesh& skin, const IncisionCurve& curve);
@@ -91,6 +92,8 @@ class SkinCutter {
   CutConfig config_;
   std::vector<Eigen::Vector3d> polyline_;           // the segment sampled (rest plane)
   double zone_radius_m_ = 0.0;
+  Eigen::Vector2d polyline_lo_ = Eigen::Vector2d::Zero(), polyline_hi_ = Eigen::Vector2d::Zero();  // its box
+  double far_m_ = 0.0;  // beyond this from the box, DistanceToSegment returns the box distance
   std::vector<std::uint32_t> inside_;               // nodes within the sweep radius
   std::vector<std::uint32_t> removed_triangles_;
   std::vector<std::uint8_t> triangle_mark_;         // (triangle capacity)

@@ -82,6 +82,7 @@ class CuttingScene final : public Scene {
   void UpdateBladeMesh(const Cylinder& blade);
   void Log(SceneEventKind kind, const Eigen::Vector3d& where, double value = 0.0);
   void NumericalReset();
+  double MaxShiftFromRest_m() const;  // over live nodes
 
   CuttingParams params_;
   SkinMesh skin_;
@@ -92,7 +93,11 @@ class CuttingScene final : public Scene {
   SkinCutter cutter_;
   CutConfig cut_config_;
   IncisionCurve curve_;
-  UniformGrid grid_;              // current skin node positions, rebuilt when the blade is near
+  // Broad phase: the live nodes' rest positions, rebuilt only when the
+  // topology moved (a cut); each tick's query grows by the largest node
+  // displacement from rest, found in one pass (cheaper than a rebuild).
+  UniformGrid rest_grid_;
+  std::uint64_t rest_grid_version_ = ~std::uint64_t{0};
   Eigen::AlignedBox3d skin_box_;  // where the skin can be (rest box grown by 10 mm)
   std::array<std::uint32_t, 8> blade_slots_{};
   std::vector<std::uint32_t> colliding_;
