@@ -89,6 +89,16 @@ int main(int argc, char** argv) {
     for (const auto& p : s.punctures) list += " " + p;
     std::printf("viewer: punctures (layer@tip depth below z=0):%s\n", list.c_str());
   }
+  if (s.topology_frames > 0 || !s.incisions_mm.empty()) {
+    std::string list;
+    for (const double mm : s.incisions_mm) {
+      char item[32];
+      std::snprintf(item, sizeof item, " %.2fmm", mm);
+      list += item;
+    }
+    std::printf("viewer: frames with topology edits %llu, incisions:%s\n",
+                static_cast<unsigned long long>(s.topology_frames), list.empty() ? " none" : list.c_str());
+  }
   std::fflush(stdout);
   if (!obj_path.empty() && mesh.has_mesh()) {
     const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +

@@ -29,6 +29,8 @@ addr=127.0.0.1:$(cat "$out/port")
 viewer=$!; pids+=("$viewer")
 script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10 --hold-s 0.5)
 [ "$scene" = acupuncture ] && script_args=(--script constant_speed --start-height-mm 2 --depth-mm 30 --speed-mm-s 20 --keep-running)
+# A 20 mm incision along +x, 1.5 mm deep at 10 mm/s, then the blade waits above the wound.
+[ "$scene" = cutting ] && script_args=(--script cut --start-height-mm 5 --depth-mm 1.5 --speed-mm-s 10 --entry-x-mm -10 --cut-length-mm 20 --keep-running)
 "$bin/hapsim-bridge" --session demo "${script_args[@]}" --seconds "$seconds" --trace "$out/trace.csv" \
     >"$out/bridge.out" 2>"$out/bridge.log" &
 bridge=$!; pids+=("$bridge")
@@ -54,6 +56,7 @@ gaps=$(field 'gaps \([0-9]*\),' "$out/viewer.out")
 events=$(field 'events:\(.*\)' "$out/viewer.out")
 force=$(field 'bridge: force peak \([0-9.]* N\)' "$out/bridge.out")
 physics_force=$(field 'peak_tool_force_n=\([0-9.]*\)' "$out/sessions.txt")
+cuts=$(field 'viewer: \(frames with topology edits .*\)' "$out/viewer.out")
 
 cat <<SUMMARY
 
@@ -65,3 +68,4 @@ hapsim demo summary (${seconds} s on loopback, scene ${scene})
   peak contact force  ${force} rendered (clamp 2.5 N); physics peak ${physics_force} N
   files               ${out}/ (logs, trace.csv, viewer.obj)
 SUMMARY
+if [ -n "$cuts" ]; then echo "  cutting             ${cuts}"; fi

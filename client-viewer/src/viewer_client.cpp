@@ -63,8 +63,10 @@ bool ViewerClient::Run() {
       ++stats_.frames;
       stats_.bytes += frame.ByteSizeLong();
       if (frame.has_keyframe()) ++stats_.keyframes; else ++stats_.deltas;
+      if (frame.has_topology()) ++stats_.topology_frames;
       for (const auto& e : frame.events()) {
         ++stats_.events[e.kind()];
+        if (e.kind() == "cut_end") stats_.incisions_mm.push_back(1e3 * e.value());
         if (e.kind() == "puncture") {
           // Layer names come with the keyframe, which precedes any event.
           const auto& names = frame.has_keyframe() ? std::vector<std::string>(frame.keyframe().layer_names().begin(),

@@ -39,6 +39,8 @@ struct ViewerStats {
   std::map<std::string, std::uint64_t> events;  // kind -> count
   // Punctures in order, as "layer@depth_mm" (layer name from the keyframe).
   std::vector<std::string> punctures;
+  std::uint64_t topology_frames = 0;            // frames that carried topology edits (a cut)
+  std::vector<double> incisions_mm;             // each cut_end event's incision length
   std::string final_status;                     // how the last stream ended
 };
 
