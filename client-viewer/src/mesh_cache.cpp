@@ -232,9 +232,17 @@ ApplyResult MeshCache::ApplyDelta(const hapsim::v1::Frame& frame, std::string* w
   std::map<std::uint32_t, bool> added;
   if (edits) {
     const auto& e = frame.topology().edits();
-    for (int i = 0; i < e.size(); i += (e[i] == kAddTriangle ? 6 : 2)) {
+    std::uint64_t count = 0;
+    for (int i = 0; i < e.size(); i += (e[i] == kAddTriangle ? 6 : 2), ++count) {
       if (e[i] == kAddVertex) added[e[i + 1]] = true;
       if (e[i] == kRemoveVertex) added[e[i + 1]] = false;
+    }
+    // One edit per topology version: a frame that skips or repeats
+    // versions would leave the cache out of step with the server.
+    if (frame.topology_version() != from + count) {
+      return Fail(ApplyResult::kMalformed, why,
+                  std::to_string(count) + " edits do not lead from topology " + std::to_string(from) + " to " +
+                      std::to_string(frame.topology_version()));
     }
   }
   scratch_indices_.clear();

@@ -387,9 +387,10 @@ int Run(const std::filesystem::path& out) {
   checks.push_back({"the incision refills the hole exactly: rest area unchanged",
                     std::abs(core::LiveRestArea_m2(skin) - area) < 1e-12 * area,
                     Sci(core::LiveRestArea_m2(skin) - area, 2) + " m^2 difference"});
-  checks.push_back({"the cut skipped no triangle (no gap) and refused no segment",
-                    scene.CutTotals().skipped_triangles == 0 && !scene.CutTotals().refused,
-                    std::to_string(scene.CutTotals().skipped_triangles) + " skipped"});
+  checks.push_back({"the cut skipped no triangle (no gap), refused no segment and no edge spring",
+                    scene.CutTotals().skipped_triangles == 0 && !scene.CutTotals().refused && scene.CutTotals().springs_refused == 0,
+                    std::to_string(scene.CutTotals().skipped_triangles) + " triangles skipped, " +
+                        std::to_string(scene.CutTotals().springs_refused) + " springs refused"});
 
   // Collision timing and point.
   std::ofstream times(out / "collision_time.csv"), points(out / "collision_point.csv"), grid(out / "collision_nodes.csv"),

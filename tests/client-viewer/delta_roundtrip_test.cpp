@@ -261,8 +261,14 @@ class MalformedFrames : public ::testing::Test {
     ExpectSameMesh(cache, m, "after a refused frame");
     EXPECT_EQ(cache.last_seq(), 0u);
   }
+  // Appends edit words; the frame's version steps by the number of edits
+  // (one per version), so each test reaches the fault it is about.
   void Edits(std::initializer_list<std::uint32_t> e) {
     for (const auto x : e) next.mutable_topology()->add_edits(x);
+    std::uint64_t count = 0;
+    const auto& words = next.topology().edits();
+    for (int i = 0; i < words.size(); i += words[i] == 2 ? 6 : 2) ++count;
+    next.set_topology_version(next.topology().from_version() + count);
   }
   ServerMesh m = Grid(2, 0, 0, 0);
   std::unique_ptr<Pipe> pipe;
@@ -287,6 +293,11 @@ TEST_F(MalformedFrames, TriangleOnAFreeVertex) { Edits({2, 18, 0, 0, 1, 17}); Ex
 TEST_F(MalformedFrames, TriangleWithAnUnknownPart) { Edits({2, 18, 7, 0, 1, 2}); ExpectRefusedAndUnchanged(next); }
 TEST_F(MalformedFrames, TruncatedEdit) { Edits({2, 18, 0, 0}); ExpectRefusedAndUnchanged(next); }
 TEST_F(MalformedFrames, UnknownEditKind) { Edits({9, 1}); ExpectRefusedAndUnchanged(next); }
+TEST_F(MalformedFrames, EditCountDiffersFromTheVersionStep) {
+  Edits({0, 16});  // a valid edit...
+  next.set_topology_version(next.topology().from_version() + 2);  // ...claimed as two versions
+  ExpectRefusedAndUnchanged(next);
+}
 TEST_F(MalformedFrames, AGoodEditThenABadOneChangesNothing) {
   Edits({0, 16, 3, 0, 3, 0});  // add vertex 16, remove triangle 0, then remove it again
   ExpectRefusedAndUnchanged(next);

@@ -67,6 +67,7 @@ TEST(CuttingScene, AStraightStrokeCutsAnIncisionAlongItKeepingTheMeshSound) {
   EXPECT_LE(length, 0.02 + 1e-9);
   EXPECT_FALSE(scene.CutTotals().refused);
   EXPECT_EQ(scene.CutTotals().skipped_triangles, 0u);
+  EXPECT_EQ(scene.CutTotals().springs_refused, 0u);  // every wound triangle got its edge springs
   const CuttingParams& p = scene.Params();
   EXPECT_EQ(test::Violation(scene.Skin(), p.patch_length_m * p.patch_width_m, true), "");
   EXPECT_GT(scene.Skin().lip_nodes.size(), 2 * 20u);

@@ -6,11 +6,14 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <stdexcept>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "hapsim/core/scenes/scene.h"
+#include "hapsim/core/scenes/cutting/cutting_params.h"
+#include "hapsim/core/scenes/cutting/cutting_scene.h"
 
 namespace hapsim::core {
 namespace {
@@ -117,6 +120,43 @@ TEST(ParamRange, DescribesEachKindOfBound) {
   EXPECT_EQ(CheckParamValue(open_both, 0.5), "");
   EXPECT_NE(CheckParamValue(open_both, 0.0), "");
   EXPECT_NE(CheckParamValue(open_both, 1.0), "");
+}
+
+}  // namespace
+}  // namespace hapsim::core
+
+namespace hapsim::core {
+namespace {
+
+// Cutting's cross-parameter limits (docs/scene-limits.md#cutting): each is
+// refused with a message naming what to change; the largest accepted patch
+// still builds a scene whose 1 ms step is stable.
+TEST(SceneParams, CuttingLimitsRefuseTooManyNodesAndBadCutGeometry) {
+  auto refused = [](std::map<std::string, double> p, const std::string& names) {
+    try {
+      (void)ParseCuttingParams(p);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what()).find(names) != std::string::npos;
+    }
+    return false;
+  };
+  EXPECT_TRUE(refused({{"spacing_m", 0.00048}}, "'spacing_m' give 10584 grid nodes"));
+  EXPECT_TRUE(refused({{"sweep_radius_m", 0.0005}}, "'sweep_radius_m' must be >= 'spacing_m'"));
+  EXPECT_TRUE(refused({{"segment_length_m", 0.0005}}, "'segment_length_m' must be >= 'spacing_m'"));
+  const CuttingParams largest = ParseCuttingParams({{"spacing_m", 0.000485}});  // 125 x 83 = 10375 nodes
+  const CuttingScene scene(largest);
+  EXPECT_EQ(scene.Skin().nx * scene.Skin().ny, 10375);
+}
+
+TEST(SceneParams, CuttingRefusesAnUnstableStepNamingTheParameters) {
+  CuttingParams p;
+  p.node_mass_kg = 0.001;  // critical step ~0.4 ms < the 1 ms sub-step
+  try {
+    const CuttingScene scene(p);
+    ADD_FAILURE() << "an unstable step was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'node_mass_kg'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

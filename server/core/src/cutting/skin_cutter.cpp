@@ -48,6 +48,7 @@ CutStats& CutStats::operator+=(const CutStats& o) {
   springs_removed += o.springs_removed;
   springs_added += o.springs_added;
   skipped_triangles += o.skipped_triangles;
+  springs_refused += o.springs_refused;
   refused = refused || o.refused;
   return *this;
 }
@@ -562,6 +563,8 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
       const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm();
       if (AddSpring(skin.model, a, b, rest, skin.def.spring_k_N_per_m, skin.def.spring_c_Ns_per_m) != kNoSpring) {
         ++st.springs_added;
+      } else {
+        ++st.springs_refused;
       }
     }
   }

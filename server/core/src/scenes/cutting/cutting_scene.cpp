@@ -110,7 +110,10 @@ Cylinder CuttingScene::BladeOf(const ToolInput& tool) const {
 void CuttingScene::Step(const ToolInput& tool, double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const int n = std::min(kMaxSubsteps, static_cast<int>(std::ceil(dt_s / kSubstep_s - 1e-9)));
-  for (int k = 0; k < n; ++k) StepOnce(tool, dt_s / n);
+  // Never a sub-step longer than the one the constructor checked for
+  // stability: a tick beyond kMaxSubsteps ms simulates only that much.
+  const double h_s = std::min(dt_s / n, kSubstep_s);
+  for (int k = 0; k < n; ++k) StepOnce(tool, h_s);
 }
 
 void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {

@@ -4,9 +4,10 @@
 //           the segment p0 p1), and
 //   step 2: its distance d to the axis is < r.
 // The paper tests every node every frame; here a broad phase (a uniform
-// grid over the nodes' current positions, spatial/uniform_grid.h) hands the
-// exact test only the nodes near the blade, so the cost follows the contact
-// area, not the mesh. Both answer the same set (tested against each other).
+// grid, spatial/uniform_grid.h — over current positions, or over rest
+// positions queried with the largest displacement since) hands the exact
+// test only the nodes near the blade. All answer the same set (tested
+// against each other).
 #pragma once
 #include <cstdint>
 #include <span>

@@ -50,6 +50,7 @@ struct CutStats {
   std::uint32_t nodes_removed = 0, nodes_added = 0;
   std::uint32_t springs_removed = 0, springs_added = 0;
   std::uint32_t skipped_triangles = 0;  // would have been inverted or degenerate
+  std::uint32_t springs_refused = 0;    // an edge spring a full node (max_node_degree) or the spring capacity refused
   bool refused = false;                 // nothing changed: capacity or an unfillable hole
   CutStats& operator+=(const CutStats& o);
 };

@@ -21,8 +21,8 @@ const char* ToString(ContactState s);
 struct LocalForceModel {
   ContactState state = ContactState::kFree;
   Eigen::Vector3d anchor_W_m = Eigen::Vector3d::Zero();  // contact point / tunnel entry [m]
-  // kContact: outward surface normal (unit). kPunctured/kCutting: needle
-  // axis, unit, pointing out of the tissue (opposite to insertion).
+  // kContact and kCutting: outward surface normal (unit). kPunctured:
+  // needle axis, unit, pointing out of the tissue (opposite to insertion).
   Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();
   double stiffness_N_per_m = 0.0;     // k: normal (contact) or lateral (tunnel) stiffness
   double damping_Ns_per_m = 0.0;      // b: along the normal / axis

@@ -1,7 +1,8 @@
 // A uniform grid of cubic cells over points (cell lists): built in O(n) by
 // counting sort, queried by box or by radius so a query costs the points
 // near it, not the whole set. Shared by the cutting scene's broad phase
-// (blade vs skin nodes, rebuilt every tick from the current positions) and
+// (blade vs skin nodes: a grid of rest positions, rebuilt when a cut changes
+// the topology) and
 // the meshless vessel's rest neighbourhoods.
 //
 // Capacity (points and cells) is fixed at construction; Build() never
