@@ -19,6 +19,8 @@ core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m) {
   c.drag_direction_W = {m.drag_direction[0], m.drag_direction[1], m.drag_direction[2]};
   c.drag_N = m.drag_n;
   c.drag_damping_Ns_per_m = m.drag_damping_ns_per_m;
+  c.stick_W_m = {m.stick_m[0], m.stick_m[1], m.stick_m[2]};
+  c.stick_stiffness_N_per_m = m.stick_stiffness_n_per_m;
   return c;
 }
 

@@ -47,5 +47,23 @@ TEST(LocalForceModel, TunnelPullsTowardAxisAndDampsAxialMotion) {
   EXPECT_NEAR(f.z(), 0.02, 1e-12);   // -b * v_axial = -2 * (-0.01)
 }
 
+// Stick-slip shaft friction: an axial spring to the stick point, clamped to
+// the Coulomb level drag_N; nonzero with the needle still.
+TEST(LocalForceModel, PuncturedShaftSticksBelowTheCoulombLevelAndSlipsAtIt) {
+  LocalForceModel m;
+  m.state = ContactState::kPunctured;
+  m.normal_W = {0, 0, 1};  // out of the tissue
+  m.stick_W_m = {0, 0, -0.01};
+  m.stick_stiffness_N_per_m = 300.0;
+  m.drag_N = 0.04;
+  const Eigen::Vector3d still = Eigen::Vector3d::Zero();
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.01 + 5e-5}, still).z(), -300.0 * 5e-5, 1e-15);  // sticking
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.01 - 5e-5}, still).z(), 300.0 * 5e-5, 1e-15);
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.01 + 1e-3}, still).z(), -0.04, 1e-15);          // slipping
+  EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.01 - 1e-3}, still).z(), 0.04, 1e-15);
+  m.stick_stiffness_N_per_m = 0.0;  // the paper's law: no Coulomb part
+  EXPECT_EQ(EvaluateLocalForce(m, {0, 0, -0.01 + 1e-3}, still).z(), 0.0);
+}
+
 }  // namespace
 }  // namespace hapsim::core

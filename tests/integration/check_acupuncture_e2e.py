@@ -54,8 +54,12 @@ if len(drops) == 3 and len(punctures) == 3:
     check(0.1 <= drops[0][2] <= 2.0, f"skin puncture force {drops[0][2]:.3f} N within the measured 0.1-2 N")
 # Withdrawal: shaft friction only — axial, opposing the outward motion
 # (pointing into the tissue, -z), shrinking as less shaft is inside, and
-# zero once the tip is out.
-inside = [r for r in rows if r["phase"] == "withdraw" and float(r["z_m"]) < -1e-3]
+# zero once the tip is out. The scene's default stick-slip friction turns
+# over while the tip crosses the stick band after the reversal (2 x Coulomb
+# level / 300 N/m, < 0.3 mm at 30 mm depth): the checks start past it.
+withdraw = [r for r in rows if r["phase"] == "withdraw"]
+turn_z = min((float(r["z_m"]) for r in withdraw), default=0.0)
+inside = [r for r in withdraw if float(r["z_m"]) < -1e-3 and float(r["z_m"]) > turn_z + 0.3e-3]
 lateral = max((abs(float(r["req_fx_N"])) + abs(float(r["req_fy_N"])) for r in inside), default=1.0)
 check(bool(inside) and lateral < 1e-6, f"withdrawal force is axial (max lateral {lateral:.1e} N)")
 check(all(float(r["req_fz_N"]) <= 0.0 for r in inside), "withdrawal force opposes the outward motion")

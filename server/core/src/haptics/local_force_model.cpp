@@ -37,7 +37,8 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
     case ContactState::kPunctured: {
       const Eigen::Vector3d r = x - m.anchor_W_m;
       const Eigen::Vector3d lateral = r - r.dot(n) * n;
-      return m.feedforward_W_N - m.stiffness_N_per_m * lateral - m.damping_Ns_per_m * v.dot(n) * n;
+      const double stick_N = std::clamp(m.stick_stiffness_N_per_m * (x - m.stick_W_m).dot(n), -m.drag_N, m.drag_N);
+      return m.feedforward_W_N - m.stiffness_N_per_m * lateral - (m.damping_Ns_per_m * v.dot(n) + stick_N) * n;
     }
   }
   return m.feedforward_W_N;

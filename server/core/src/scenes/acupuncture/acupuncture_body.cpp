@@ -4,6 +4,12 @@
 
 namespace hapsim::core {
 
+// Departure from the paper (docs/validation.md#acupuncture): the paper reads
+// the ring deformations Z_j from the change of the SHF radius. These SH
+// surfaces stay rigid and only answer depth queries (where each layer's top
+// is along the needle); the force net placed at the contact point deforms
+// instead — refitting the coefficients each tick would cost the build's
+// least-squares fit for a dimple the net already describes.
 LayeredShBody MakeAcupunctureBody(const std::array<TissueLayer, kNumTissueLayers>& layers, int lmax, int samples,
                                   const LimbSegmentDef& limb) {
   LayeredShBodyDef def;

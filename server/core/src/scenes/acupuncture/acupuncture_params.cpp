@@ -37,6 +37,15 @@ ParamTable<AcupunctureParams> MakeTable() {
       .Add({.name = "contact_damping_Ns_per_m", .unit = "N*s/m", .min = 0, .max = 100,
             .description = "damper in the device's local contact model"},
            &P::contact_damping_Ns_per_m)
+      .Add({.name = "shaft_friction_law", .unit = "choice", .min = 0, .max = 1, .integer = true,
+            .description = "0: the paper's viscous shaft damping only (Table 1); 1: stick-slip Coulomb + scaled viscous"},
+           &P::shaft_friction_law)
+      .Add({.name = "shaft_viscous_scale", .unit = "1", .min = 0, .max = 1,
+            .description = "law 1: fraction of Table 1's viscous shaft damping kept beside the Coulomb friction"},
+           &P::shaft_viscous_scale)
+      .Add({.name = "shaft_stick_stiffness_N_per_m", .unit = "N/m", .min = 1, .max = 1e4,
+            .description = "law 1: axial spring holding a sticking shaft (friction below the Coulomb level)"},
+           &P::shaft_stick_stiffness_N_per_m)
       .Add({.name = "patch_size_m", .unit = "m", .min = 0.005, .max = 0.2,
             .description = "side of the displayed square of each layer surface"},
            &P::patch_size_m)
@@ -56,6 +65,10 @@ ParamTable<AcupunctureParams> MakeTable() {
               .description = n + " shaft damping d per metre inserted (Table 1)"},
              [i](const P& p) { return p.layers[i].damping_Ns_per_m2; },
              [i](P& p, double v) { p.layers[i].damping_Ns_per_m2 = v; })
+        .Add({.name = n + "_shaft_coulomb_N_per_m", .unit = "N/m", .min = 0, .max = 1e3,
+              .description = n + " Coulomb shaft friction per metre inserted (law 1; not in the paper)"},
+             [i](const P& p) { return p.layers[i].shaft_coulomb_N_per_m; },
+             [i](P& p, double v) { p.layers[i].shaft_coulomb_N_per_m = v; })
         .Add({.name = n + "_rings", .unit = "count", .min = 2, .max = AcupunctureLimits::kMaxRings, .integer = true,
               .description = n + " force-net rings w (Table 2)"},
              [i](const P& p) { return static_cast<double>(p.layers[i].rings_w); },

@@ -55,6 +55,8 @@ void AcupunctureScene::ResetState() {
   entry_axis_W_ = -Eigen::Vector3d::UnitZ();
   depth_m_.setZero();
   shaft_damping_Ns_per_m_ = 0.0;
+  shaft_coulomb_N_ = 0.0;
+  stick_W_m_.setZero();
   t_s_ = 0.0;
   force_W_N_.setZero();
   force_model_ = LocalForceModel{};
@@ -73,6 +75,7 @@ std::uint64_t AcupunctureScene::StateHash() const {
   StateHasher h;
   AddCommonSceneState(h, *this, reset_epoch_);
   h.Add(pressing_).Add(punctured_).Add(entry_W_m_).Add(entry_axis_W_).Add(depth_m_).Add(shaft_damping_Ns_per_m_);
+  h.Add(shaft_coulomb_N_).Add(stick_W_m_);
   // Left out as pure functions of what is hashed: each net's rest lattice
   // (placement n1_rest + normal) and the patch vertices' ring coordinates q.
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
@@ -214,6 +217,7 @@ void AcupunctureScene::Puncture(int layer, const Eigen::Vector3d& tip, const Eig
   if (layer == 0) {
     entry_W_m_ = tip;
     entry_axis_W_ = axis;
+    stick_W_m_ = tip;  // the shaft starts sticking where it entered, unloaded
   }
   pressing_ = false;
   punctured_ = layer + 1;
@@ -225,12 +229,24 @@ void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vec
     const auto i = static_cast<std::size_t>(punctured_);
     force_W_N_ += NetReactionOnTip_W_N(nets_[i], net_states_[i]);
   }
-  shaft_damping_Ns_per_m_ = ::hapsim::core::ShaftDamping_Ns_per_m(params_.layers, depth_m_.data(), punctured_);
+  const bool coulomb = params_.shaft_friction_law == 1;
+  shaft_damping_Ns_per_m_ = ::hapsim::core::ShaftDamping_Ns_per_m(params_.layers, depth_m_.data(), punctured_) *
+                            (coulomb ? params_.shaft_viscous_scale : 1.0);
+  shaft_coulomb_N_ = coulomb ? ::hapsim::core::ShaftCoulomb_N(params_.layers, depth_m_.data(), punctured_) : 0.0;
   if (punctured_ > 0) {
     const Eigen::Vector3d& a = entry_axis_W_;
     const Eigen::Vector3d r = tip - entry_W_m_;
-    force_W_N_ -= shaft_damping_Ns_per_m_ * v.dot(a) * a;                         // Table 1
+    force_W_N_ -= shaft_damping_Ns_per_m_ * v.dot(a) * a;                         // Table 1 (scaled in law 1)
     force_W_N_ -= params_.tunnel_stiffness_N_per_m * (r - r.dot(a) * a);           // tunnel
+    if (coulomb) {
+      // Stick-slip: an axial spring to the stick point, saturating at the
+      // Coulomb level; past it the shaft slips and the stick point follows.
+      const double k = params_.shaft_stick_stiffness_N_per_m;
+      const double e_m = (tip - stick_W_m_).dot(a);
+      const double held_m = std::clamp(e_m, -shaft_coulomb_N_ / k, shaft_coulomb_N_ / k);
+      stick_W_m_ += (e_m - held_m) * a;  // slips by the excess, along the axis
+      force_W_N_ -= k * held_m * a;
+    }
   }
 }
 
@@ -242,6 +258,11 @@ void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen
     m.normal_W = -entry_axis_W_;  // out of the tissue
     m.stiffness_N_per_m = params_.tunnel_stiffness_N_per_m;
     m.damping_Ns_per_m = shaft_damping_Ns_per_m_;
+    if (params_.shaft_friction_law == 1) {
+      m.drag_N = shaft_coulomb_N_;
+      m.stick_W_m = stick_W_m_;
+      m.stick_stiffness_N_per_m = params_.shaft_stick_stiffness_N_per_m;
+    }
     if (pressing_) {  // a deeper surface pushes back: feed it forward
       const auto i = static_cast<std::size_t>(punctured_);
       m.feedforward_W_N = NetReactionOnTip_W_N(nets_[i], net_states_[i]);

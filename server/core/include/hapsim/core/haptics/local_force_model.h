@@ -31,8 +31,14 @@ struct LocalForceModel {
   // direction t (unit, in the skin plane): a smoothed Coulomb drag plus a
   // viscous part (see EvaluateLocalForce).
   Eigen::Vector3d drag_direction_W = Eigen::Vector3d::Zero();
-  double drag_N = 0.0;                // Coulomb level of the cutting force [N]
+  double drag_N = 0.0;                // Coulomb level [N] (kCutting: cutting force; kPunctured: shaft friction)
   double drag_damping_Ns_per_m = 0.0; // viscous part [N·s/m]
+  // kPunctured only: stick-slip shaft friction. The shaft sticks to the
+  // tissue at stick_W_m; an axial spring to it gives the friction force,
+  // clamped to drag_N (beyond it the shaft slips; the server moves the
+  // stick point each tick). Nonzero with the needle at rest.
+  Eigen::Vector3d stick_W_m = Eigen::Vector3d::Zero();
+  double stick_stiffness_N_per_m = 0.0;  // 0: no Coulomb friction (the paper's viscous law)
 };
 
 // Speed at which the smoothed Coulomb drag reaches tanh(1) = 76 % of drag_N
@@ -47,6 +53,7 @@ inline constexpr double kDragSmoothingSpeed_m_per_s = 0.002;
 //              (the max keeps the damper from pulling the tool into the surface)
 //  kPunctured: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
 //              F = f_ff - k d - b (v·n) n
+//                  - clamp(k_stick (x - stick)·n, ±drag_N) n   (stick-slip friction)
 //  kCutting:   the kContact law on (anchor, n, k, b), plus the drag along t,
 //              v_t = v·t: F_t = -(drag_N tanh(v_t / v_s) + drag_damping v_t) t
 //              with v_s = kDragSmoothingSpeed_m_per_s

@@ -22,10 +22,15 @@ struct TissueLayer {
   double damping_Ns_per_m2 = 0.0;     // d per unit inserted length (see above)
   int rings_w = 0;                    // w
   double spacing_L_m = 0.0;           // L
+  // Coulomb shaft friction per metre of shaft inside the layer [N/m] — an
+  // extension of Table 1 (its law is viscous only); see PaperTissueLayers.
+  double shaft_coulomb_N_per_m = 0.0;
 };
 
 // Table 2: skin 0.8 mm / 0.16 N/mm / d 3 / w 8 / L 2 mm; fat 8.4 / 0.08 / 1 /
-// 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5.
+// 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5. Shaft Coulomb friction (not in the
+// paper; our estimate, docs/validation.md#shaft-friction): skin 1, fat 0.5,
+// muscle 1.5 N per metre inserted.
 std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers();
 
 // Table 1 damping along the shaft [N·s/m]: Σ_i d_i · h_i with h_i the length
@@ -35,5 +40,8 @@ std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers();
 // its tissue grips the shaft).
 double ShaftDamping_Ns_per_m(const std::array<TissueLayer, kNumTissueLayers>& layers,
                              const double* depth_below_top_m, int punctured_layers);
+// The Coulomb level of shaft friction [N]: Σ_i coulomb_i · h_i, same h_i.
+double ShaftCoulomb_N(const std::array<TissueLayer, kNumTissueLayers>& layers, const double* depth_below_top_m,
+                      int punctured_layers);
 
 }  // namespace hapsim::core

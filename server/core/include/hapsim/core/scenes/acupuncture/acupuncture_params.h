@@ -35,6 +35,14 @@ struct AcupunctureParams {
   double tunnel_stiffness_N_per_m = 300.0;
   double render_stiffness_max_N_per_m = 2000.0;
   double contact_damping_Ns_per_m = 0.5;
+  // Shaft friction (docs/validation.md#shaft-friction). Law 0: Table 1's
+  // viscous damping alone (the paper; what `hapsim-validate puncture`
+  // checks). Law 1 (default): stick-slip Coulomb friction per layer plus a
+  // tenth of Table 1's viscous part — Table 1 alone gives 7 N at 100 mm/s
+  // and 30 mm depth, and nothing with the needle still.
+  int shaft_friction_law = 1;
+  double shaft_viscous_scale = 0.1;
+  double shaft_stick_stiffness_N_per_m = 300.0;
   double patch_size_m = 0.06;
   int patch_grid_nodes = 41;
   double needle_length_m = 0.05;

@@ -79,6 +79,7 @@ class AcupunctureScene final : public Scene {
   // the puncture instant, along the outward normal [m]; nullopt before puncture.
   std::optional<double> PuncturePointOffset_m(int layer) const;
   double ShaftDamping_Ns_per_m() const { return shaft_damping_Ns_per_m_; }
+  double ShaftCoulomb_N() const { return shaft_coulomb_N_; }
   LayeredShBody& Body() { return body_; }
 
  private:
@@ -115,6 +116,8 @@ class AcupunctureScene final : public Scene {
   Eigen::Vector3d entry_axis_W_ = -Eigen::Vector3d::UnitZ();  // insertion direction at skin puncture
   Eigen::VectorXd depth_m_;  // tip depth below each SH surface (4)
   double shaft_damping_Ns_per_m_ = 0.0;
+  double shaft_coulomb_N_ = 0.0;                 // Coulomb level of the shaft friction now (law 1)
+  Eigen::Vector3d stick_W_m_ = Eigen::Vector3d::Zero();  // where the shaft sticks (law 1)
 
   double t_s_ = 0.0;
   Eigen::Vector3d force_W_N_ = Eigen::Vector3d::Zero();
