@@ -49,11 +49,11 @@ struct Check {
 
 // Issue 11's speed sweep: the default scene (what a trainee gets), tip
 // straight down from 2 mm above the skin to 30 mm at each speed. Per layer:
-// indentation at puncture (tip depth below the layer's top), peak force,
+// indentation at puncture (tip depth below where the layer's surface was
+// when pressing began), peak force,
 // and the contact phase (ticks pressing that layer's surface) — against the
 // targets the issue sets (skin indentation 2-6 mm, fat contact >= 20 ticks
-// at 10 mm/s, every peak below the bridge's 2.5 N clamp). Reported, not
-// checked: the current net misses them (docs/validation.md#acupuncture).
+// at 10 mm/s, every peak below the bridge's 2.5 N clamp).
 struct SweepRow {
   double speed_mm_s;
   int layer;
@@ -86,9 +86,9 @@ std::vector<SweepRow> SpeedSweep(const std::filesystem::path& out) {
         peak[static_cast<std::size_t>(layer)] = std::max(peak[static_cast<std::size_t>(layer)], f);
       }
       for (int i = before; i < scene.PuncturedLayers() && i < 3; ++i) {
-        double top_m = 0.0;
-        for (int j = 0; j < i; ++j) top_m += defaults.layers[static_cast<std::size_t>(j)].thickness_m;
-        indentation[static_cast<std::size_t>(i)] = -z - top_m;
+        // From where its surface was when pressing began (its top, or
+        // deeper if the layer above carried it down).
+        indentation[static_cast<std::size_t>(i)] = -z + scene.NetState(i).n1_rest_W_m.z();
         pierced[static_cast<std::size_t>(i)] = true;
       }
       char line[96];
@@ -167,9 +167,10 @@ int Run(const std::filesystem::path& out) {
     }
   }
 
-  // Expected puncture depth of layer i: its top (cumulative thickness above)
-  // plus the net's critical deflection Z1* = ζ / g_w; expected peak force
-  // K Σg Z1* plus the Table 1 damping of the layers above.
+  // Expected puncture depth of layer i: where its pressing started (its top,
+  // or deeper if the layer above carried it down) plus its net's puncture
+  // depth; expected peak force: the layer's puncture force plus the Table 1
+  // damping of the layers above.
   std::vector<Check> checks;
   std::ofstream pf(out / "punctures.csv");
   pf << "layer,name,depth_mm,expected_depth_mm,peak_force_N,expected_peak_force_N,force_after_N\n";
@@ -177,13 +178,19 @@ int Run(const std::filesystem::path& out) {
   for (std::size_t i = 0; i < puncture_layer.size(); ++i) order_ok = order_ok && puncture_layer[i] == static_cast<int>(i);
   checks.push_back({"three punctures, skin then fat then muscle", order_ok,
                     std::to_string(puncture_layer.size()) + " puncture events"});
-  double top_m = 0.0, shaft_b = 0.0;
+  double top_m = 0.0, shaft_b = 0.0, previous_m = 0.0;
   const auto& layers = scene.Params().layers;
   for (std::size_t i = 0; i < puncture_layer.size() && i < 3; ++i) {
     const core::ForceNetModel& net = scene.Net(static_cast<int>(i));
-    const double z1_m = net.critical_deflection_m;
-    const double expected_depth_m = top_m + z1_m;
-    const double expected_peak_N = net.def.virtual_K_N_per_m * net.influence_sum * z1_m + shaft_b * kSpeed_m_per_s;
+    // The tip its net's puncture depth below N1 along the surface normal at
+    // the site (the fitted surface tilts a few degrees there; the needle
+    // moves along -z). N1 is the layer's top, or deeper if the layer above
+    // carried it down.
+    const core::ForceNetState& placed = scene.NetState(static_cast<int>(i));
+    const double expected_depth_m = (net.puncture_depth_m - placed.n1_rest_W_m.dot(placed.normal_W)) / placed.normal_W.z();
+    const bool n1_where_expected = std::abs(-placed.n1_rest_W_m.z() - std::max(top_m, previous_m)) <= 6e-6;
+    const double expected_peak_N = net.def.puncture_force_N + shaft_b * kSpeed_m_per_s;
+    const double slope_N_per_m = core::NetStiffnessAtDepth_N_per_m(net, net.puncture_depth_m);
     const Sample& at = samples[puncture_sample[i] - 1];  // last tick before the puncture tick
     const Sample& after = samples[puncture_sample[i]];
     const double step_m = kSpeed_m_per_s * kDt_s;
@@ -192,12 +199,13 @@ int Run(const std::filesystem::path& out) {
                   1e3 * expected_depth_m, at.force_N, expected_peak_N, after.force_N);
     pf << row;
     const std::string name = layers[i].name;
-    checks.push_back({name + " punctures at top + Z1* (within one 5 um tick)",
-                      std::abs(after.depth_m - expected_depth_m) <= step_m + 1e-9,
+    previous_m = after.depth_m;
+    checks.push_back({name + " punctures where its pressing began + its net's puncture depth (within one 5 um tick)",
+                      n1_where_expected && std::abs(after.depth_m - expected_depth_m) <= step_m + 1e-9,
                       "depth " + std::to_string(1e3 * after.depth_m) + " mm, expected " +
                           std::to_string(1e3 * expected_depth_m) + " mm"});
-    checks.push_back({name + " peak force = K sum(g) Z1 + shaft damping (within one tick of rise)",
-                      std::abs(at.force_N - expected_peak_N) <= net.def.virtual_K_N_per_m * net.influence_sum * step_m + 1e-9,
+    checks.push_back({name + " peak force = its puncture force + shaft damping (within one tick of rise)",
+                      std::abs(at.force_N - expected_peak_N) <= slope_N_per_m * step_m + 1e-9,
                       std::to_string(at.force_N) + " N vs " + std::to_string(expected_peak_N) + " N"});
     checks.push_back({name + " force drops at puncture", after.force_N < at.force_N,
                       std::to_string(at.force_N) + " -> " + std::to_string(after.force_N) + " N"});
@@ -244,6 +252,45 @@ int Run(const std::filesystem::path& out) {
   }
   checks.push_back({"back to free once the tip leaves the skin", samples.back().state == "free", samples.back().state});
 
+  // Each layer's tabulated net (for check_puncture.py's independent solve):
+  // depth, tip force, mean inward deflection of every ring.
+  {
+    std::ofstream t(out / "net_tables.csv");
+    t << "layer,depth_mm,force_N,ring,Z_mm\n";
+    for (int i = 0; i < 3; ++i) {
+      const core::ForceNetModel& net = scene.Net(i);
+      const auto& first = net.topology.ring_first_node;
+      for (std::size_t k = 0; k < net.force_N.size(); ++k) {
+        for (int j = 0; j < net.def.rings_w; ++j) {
+          const auto b = first[static_cast<std::size_t>(j)], e = first[static_cast<std::size_t>(j + 1)];
+          const double z = -net.displacement_T_m[k].row(2).segment(b, e - b).mean();
+          char line[160];
+          std::snprintf(line, sizeof line, "%d,%.6f,%.12e,%d,%.12e\n", i, 1e3 * static_cast<double>(k) * net.def.table_step_m,
+                        net.force_N[k], j + 1, 1e3 * z);
+          t << line;
+        }
+      }
+    }
+  }
+  const std::vector<SweepRow> sweep = SpeedSweep(out);
+  bool skin_ok = true, clamp_ok = true, fat_ok = false;
+  double skin_lo = 1e9, skin_hi = 0.0, worst_peak = 0.0;
+  int fat_ticks_10 = 0;
+  for (const auto& r : sweep) {
+    if (r.layer == 0) {
+      skin_ok = skin_ok && r.indentation_mm >= 2.0 && r.indentation_mm <= 6.0;
+      skin_lo = std::min(skin_lo, r.indentation_mm), skin_hi = std::max(skin_hi, r.indentation_mm);
+    }
+    if (r.layer == 1 && r.speed_mm_s == 10.0) fat_ticks_10 = r.contact_ticks, fat_ok = r.contact_ticks >= 20;
+    clamp_ok = clamp_ok && r.peak_N < 2.5;
+    worst_peak = std::max(worst_peak, r.peak_N);
+  }
+  checks.push_back({"skin indents 2-6 mm before it gives way, at 2-20 mm/s (issue 11)", skin_ok,
+                    std::to_string(skin_lo) + " - " + std::to_string(skin_hi) + " mm"});
+  checks.push_back({"the fat's contact lasts >= 20 ticks at 10 mm/s", fat_ok, std::to_string(fat_ticks_10) + " ticks"});
+  checks.push_back({"every layer's peak stays below the bridge's 2.5 N clamp, at 2-20 mm/s", clamp_ok,
+                    "highest " + std::to_string(worst_peak) + " N"});
+
   bool all = true;
   std::ofstream md(out / "summary.md");
   md << "# puncture validation\n\nInsertion at " << 1e3 * kSpeed_m_per_s << " mm/s to " << 1e3 * kMaxDepth_m
@@ -253,8 +300,7 @@ int Run(const std::filesystem::path& out) {
     std::printf("%-70s %s  %s\n", c.claim.c_str(), c.ok ? "ok  " : "FAIL", c.detail.c_str());
     all = all && c.ok;
   }
-  const std::vector<SweepRow> sweep = SpeedSweep(out);
-  md << "\n## Speed sweep (default scene; issue 11's targets, reported, not yet met)\n\n"
+  md << "\n## Speed sweep (default scene)\n\n"
         "| speed | layer | indentation at puncture | peak force | contact ticks |\n|---|---|---|---|---|\n";
   std::printf("\nspeed sweep (default scene): speed, layer, indentation at puncture, peak force, contact ticks\n");
   for (const auto& r : sweep) {

@@ -28,7 +28,7 @@ constexpr double kTick_s = 1e-3;
 // and sqrt; acupuncture's build also uses sin/cos/acos (SH fit), so another
 // libm may change its value.
 const std::map<std::string, std::uint64_t> kGoldenHash = {
-    {"acupuncture", 9488313477016620916ull},
+    {"acupuncture", 1035656729872970737ull},
     {"cutting", 1957159093851242908ull},
     {"tissue_block", 3148907841125443309ull},
 };

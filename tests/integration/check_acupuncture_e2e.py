@@ -1,8 +1,8 @@
 """Checks acupuncture_e2e.sh's outputs (standard library only).
 
 Layer tops below the skin surface (z = 0): skin 0, fat 0.8 mm, muscle 9.2 mm
-(paper Table 2). A puncture happens once the layer's surface has been pushed
-in, so each puncture depth lies below its layer's top.
+(paper Table 2). Each layer is pressed millimetres deep before it gives way
+(issue 11's force net); the expected depths are the model's own.
 """
 import csv
 import re
@@ -19,26 +19,28 @@ check(m is not None, "the viewer's frames carried puncture events")
 punctures = [(p.split("@")[0], float(p.split("@")[1].rstrip("mm"))) for p in m.group(1).split()] if m else []
 check([p[0] for p in punctures] == ["skin", "fat", "muscle"],
       f"three punctures in order skin -> fat -> muscle (got {punctures})")
-tops_mm = {"skin": 0.0, "fat": 0.8, "muscle": 9.2}
-next_tops_mm = {"skin": 0.8, "fat": 9.2, "muscle": 48.2}
+# The model's own puncture depths (hapsim-validate puncture, punctures.csv
+# expected_depth_mm; checked there against an independent solve): skin
+# 2.589 mm, fat 1.117 mm below where the skin gave way (along the fat's
+# normal at the site), muscle 2.871 mm below its top at 9.2 mm (likewise).
+# The window adds what the network can: poses a few ticks late or coalesced
+# (10 ticks of 5 µm).
+expected_mm = {"skin": 2.589, "fat": 3.707, "muscle": 12.071}
 for layer, depth in punctures:
-    if layer in tops_mm:
-        # Below the layer's own top, and above the next layer's top plus a
-        # generous dimple allowance (the layer below is pushed too).
-        check(tops_mm[layer] < depth < next_tops_mm[layer] + 5.0,
-              f"{layer} punctured at {depth:.2f} mm, below its top at {tops_mm[layer]} mm")
+    if layer in expected_mm:
+        check(expected_mm[layer] - 0.01 <= depth <= expected_mm[layer] + 0.05,
+              f"{layer} punctured at {depth:.3f} mm (model: {expected_mm[layer]:.3f} mm, window -0.01/+0.05 mm)")
 
 # Bridge force trace: the force the local model asks for drops sharply at
 # each puncture (the layer's surface force is gone; only shaft friction and
-# the next surface remain). A drop: from over 0.02 N (the fat's peak is only
-# ~0.066 N at 2.5 mm/s; shaft friction before it is ~0.006 N) to under half
-# within 5 ticks.
+# the next surface remain). A drop: from over 0.1 N (every layer's puncture
+# force is 0.2 N or more) to under half within 5 ticks.
 rows = list(csv.DictReader(open(f"{work}/trace.csv")))
 force = lambda r: (float(r["req_fx_N"]) ** 2 + float(r["req_fy_N"]) ** 2 + float(r["req_fz_N"]) ** 2) ** 0.5
 drops = []  # (t, depth_mm, before_N, after_N)
 for i in range(5, len(rows)):
     before, after = force(rows[i - 5]), force(rows[i])
-    if rows[i]["phase"] == "press" and before > 0.02 and after < 0.5 * before:
+    if rows[i]["phase"] == "press" and before > 0.1 and after < 0.5 * before:
         t = float(rows[i]["t_s"])
         if not drops or t - drops[-1][0] > 0.02:
             drops.append((t, -float(rows[i]["z_m"]) * 1e3, before, after))
@@ -49,9 +51,10 @@ for d in drops:
 check(len(drops) == 3, f"three force drops in the bridge's trace while inserting (got {len(drops)})")
 if len(drops) == 3 and len(punctures) == 3:
     for (layer, depth), d in zip(punctures, drops):
-        check(abs(depth - d[1]) < 1.0,
-              f"{layer}: trace drop at {d[1]:.2f} mm matches the viewer's puncture at {depth:.2f} mm (within 1 mm)")
+        check(abs(depth - d[1]) < 0.05,
+              f"{layer}: trace drop at {d[1]:.3f} mm matches the viewer's puncture at {depth:.3f} mm (within 0.05 mm)")
     check(0.1 <= drops[0][2] <= 2.0, f"skin puncture force {drops[0][2]:.3f} N within the measured 0.1-2 N")
+    check(all(d[2] < 2.5 for d in drops), f"every puncture peak below the 2.5 N clamp ({[round(d[2], 3) for d in drops]} N)")
 # Withdrawal: shaft friction only — axial, opposing the outward motion
 # (pointing into the tissue, -z), shrinking as less shaft is inside, and
 # zero once the tip is out. The scene's default stick-slip friction turns

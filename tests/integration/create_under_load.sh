@@ -44,7 +44,8 @@ now() { date +%s.%N; }
 acupuncture_worst=(--param shf_lmax=16 --param shf_samples=3000 --param patch_grid_nodes=101
   --param skin_rings=30 --param fat_rings=30 --param muscle_rings=30
   --param skin_spacing_m=0.01 --param fat_spacing_m=0.01 --param muscle_spacing_m=0.01
-  --param patch_size_m=0.2 --param springback_eta_rate_per_step=0 --param net_tension_ratio=1e4)
+  --param patch_size_m=0.2 --param springback_eta_rate_per_step=0
+  --param skin_puncture_force_N=2.5 --param fat_puncture_force_N=2.5 --param muscle_puncture_force_N=2.5)
 
 echo "load_start $(now)" >times.txt
 echo "devices $devices" >>times.txt

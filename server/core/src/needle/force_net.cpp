@@ -1,5 +1,6 @@
 #include "hapsim/core/needle/force_net.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -19,55 +20,69 @@ void Require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("force net: " + what);
 }
 
-// Static influence vector from the MSM core: N1 fixed and displaced by
-// unit_m along z, everything else relaxed to equilibrium by backward Euler
-// with a step so long that inertia is negligible (each step is then a Newton
-// step on the statics; the system is linear, so a few steps reach round-off).
-Eigen::VectorXd SolveInfluence(const HexNetTopology& topo, double K, double ks, double& residual_N) {
-  const std::int32_t n = topo.NumNodes();
-  MsmDef def;
-  def.x0_m = Eigen::Matrix3Xd::Zero(3, n);
-  def.x0_m.topRows<2>() = topo.offset_T_m;
-  def.mass_kg = Eigen::VectorXd::Constant(n, 1e-3);  // irrelevant for statics
-  def.fixed.assign(static_cast<std::size_t>(n), 0);
-  def.fixed[0] = 1;  // N1 is carried by the needle
-  for (const auto& s : topo.springs) {
-    def.springs.push_back(s);
-    def.spring_rest_m.push_back(0.0);  // tensioned membrane (see header)
-    def.spring_k_N_per_m.push_back(ks);
-  }
-  for (std::int32_t i = 0; i < n; ++i) {
-    def.anchor_node.push_back(i);
-    def.anchor_k_N_per_m.push_back(K);
-  }
-  def.anchor_point_W_m = def.x0_m;
-  const MsmModel model = BuildMsmModel(def);
-  MsmState state = MakeMsmState(model);
-  // Edge traction: the skin outside the net holds the tensioned rim, so the
-  // rest lattice is an equilibrium.
-  Eigen::Matrix3Xd f;
-  ComputeForces(model, state, state.x_m, state.v_m_per_s, f);
-  state.f_ext_N = -f;
+// The net as an MSM model in its own frame (t1, t2, n = x, y, z): N1 fixed
+// (the needle carries it), pre-stretched surface springs, a zero-length
+// virtual spring K per particle, and the rim traction that makes the rest
+// lattice an equilibrium (held in state.f_ext_N).
+struct NetSolver {
+  MsmModel model;
+  MsmState state;
+  MsmWorkspace workspace;
+  Eigen::Matrix3Xd forces;
 
-  constexpr double kUnit_m = 1e-3;
-  state.x_m(2, 0) = -kUnit_m;
-  MsmWorkspace ws = MakeMsmWorkspace(model);
-  ws.cg_relative_tolerance = 1e-14;
-  ws.cg_max_iterations = 10 * n;
-  IntegratorChoice be;
-  be.kind = IntegratorKind::kBackwardEuler;
-  for (int it = 0; it < 4; ++it) {
-    state.v_m_per_s.setZero();  // quasi-static: start every step at rest
-    const StepReport r = StepMsm(model, state, 1e3, be, ws);
-    if (!r.ok) throw std::runtime_error("force net: MSM static solve blew up");
+  NetSolver(const HexNetTopology& topo, double K, double ks, double rest_m) {
+    const std::int32_t n = topo.NumNodes();
+    MsmDef def;
+    def.x0_m = Eigen::Matrix3Xd::Zero(3, n);
+    def.x0_m.topRows<2>() = topo.offset_T_m;
+    def.mass_kg = Eigen::VectorXd::Constant(n, 1e-3);  // irrelevant for statics
+    def.fixed.assign(static_cast<std::size_t>(n), 0);
+    def.fixed[0] = 1;
+    for (const auto& s : topo.springs) {
+      def.springs.push_back(s);
+      def.spring_rest_m.push_back(rest_m);
+      def.spring_k_N_per_m.push_back(ks);
+    }
+    for (std::int32_t i = 0; i < n; ++i) {
+      def.anchor_node.push_back(i);
+      def.anchor_k_N_per_m.push_back(K);
+    }
+    def.anchor_point_W_m = def.x0_m;
+    model = BuildMsmModel(def);
+    state = MakeMsmState(model);
+    ComputeForces(model, state, state.x_m, state.v_m_per_s, forces);
+    state.f_ext_N = -forces;
+    workspace = MakeMsmWorkspace(model);
+    workspace.cg_relative_tolerance = 1e-14;
+    workspace.cg_max_iterations = 10 * n;
   }
-  state.v_m_per_s.setZero();
-  ComputeForces(model, state, state.x_m, state.v_m_per_s, f);
-  residual_N = f.rightCols(n - 1).cwiseAbs().maxCoeff();
-  Eigen::VectorXd g = (def.x0_m.row(2) - state.x_m.row(2)).transpose() / kUnit_m;
-  g[0] = 1.0;
-  return g;
-}
+
+  // Backward-Euler steps with a 1000 s step from rest velocity until the
+  // largest force on a free particle is below tol_N. Returns that force.
+  double Relax(double tol_N, int max_steps, int* steps) {
+    IntegratorChoice be;
+    be.kind = IntegratorKind::kBackwardEuler;
+    double residual = Residual();
+    for (int it = 0; it < max_steps && residual > tol_N; ++it) {
+      state.v_m_per_s.setZero();  // quasi-static: start every step at rest
+      const StepReport r = StepMsm(model, state, 1e3, be, workspace);
+      if (!r.ok) throw std::runtime_error("force net: MSM static solve blew up");
+      ++*steps;
+      residual = Residual();
+    }
+    state.v_m_per_s.setZero();
+    return residual;
+  }
+
+  double Residual() {
+    ComputeForces(model, state, state.x_m, state.v_m_per_s, forces);
+    return forces.rightCols(forces.cols() - 1).cwiseAbs().maxCoeff();
+  }
+};
+
+// Converged when no free particle feels more than this [N].
+constexpr double kStaticTolerance_N = 1e-9;
+constexpr int kMaxNewtonSteps = 60;
 
 }  // namespace
 
@@ -76,6 +91,8 @@ ForceNetDef ForceNetDefFor(const TissueLayer& layer) {
   d.rings_w = layer.rings_w;
   d.spacing_L_m = layer.spacing_L_m;
   d.virtual_K_N_per_m = layer.virtual_K_N_per_m;
+  d.puncture_force_N = layer.puncture_force_N;
+  d.table_step_m = layer.spacing_L_m / 40.0;  // finer than the dimple's curvature; bounds the build on coarse nets
   return d;
 }
 
@@ -83,26 +100,75 @@ ForceNetModel BuildForceNet(const ForceNetDef& def) {
   Require(def.rings_w >= 2 && def.rings_w <= 40, "rings w must be in [2, 40]");
   Require(def.spacing_L_m > 0.0 && def.spacing_L_m < 0.05, "spring length L must be in (0, 0.05) m");
   Require(def.virtual_K_N_per_m > 0.0 && std::isfinite(def.virtual_K_N_per_m), "virtual spring K must be > 0");
-  Require(def.tension_ratio > 0.0 && def.tension_ratio <= 1e4, "tension_ratio must be in (0, 1e4]");
-  Require(def.threshold_ratio > 0.0 && def.threshold_ratio < 1.0, "threshold_ratio must be in (0, 1)");
+  Require(def.surface_ratio > 0.0 && def.surface_ratio <= 1e3, "surface_ratio must be in (0, 1e3]");
+  Require(def.prestretch >= 0.0 && def.prestretch <= 1.0, "prestretch must be in [0, 1]");
+  Require(def.puncture_force_N > 0.0 && std::isfinite(def.puncture_force_N), "puncture force must be > 0");
+  Require(def.table_step_m > 0.0 && def.table_max_depth_m >= 2.0 * def.table_step_m &&
+              def.table_max_depth_m / def.table_step_m <= 4000.0,
+          "table step and depth: 2 to 4000 steps");
   ForceNetModel m;
   m.def = def;
   m.topology = MakeHexNetTopology(def.rings_w, def.spacing_L_m);
-  m.surface_k_N_per_m = def.tension_ratio * def.virtual_K_N_per_m;
-  m.threshold_m = def.threshold_ratio * def.spacing_L_m;
-  m.influence = SolveInfluence(m.topology, def.virtual_K_N_per_m, m.surface_k_N_per_m, m.static_residual_N);
-  m.ring_influence.resize(def.rings_w);
-  for (int j = 0; j < def.rings_w; ++j) {
-    const auto b = m.topology.ring_first_node[static_cast<std::size_t>(j)];
-    const auto e = m.topology.ring_first_node[static_cast<std::size_t>(j + 1)];
-    m.ring_influence[j] = m.influence.segment(b, e - b).mean();
+  m.surface_k_N_per_m = def.surface_ratio * def.virtual_K_N_per_m;
+  m.surface_rest_m = def.spacing_L_m / (1.0 + def.prestretch);
+  const double K = def.virtual_K_N_per_m;
+
+  // Lateral influence: N1 moved a micrometre along t1 from rest.
+  {
+    NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
+    constexpr double kLateral_m = 1e-6;
+    net.state.x_m(0, 0) += kLateral_m;
+    m.static_residual_N = net.Relax(kStaticTolerance_N * 1e-3, kMaxNewtonSteps, &m.newton_steps);
+    m.lateral_influence = (net.state.x_m.row(0) - net.model.x0_m.row(0)).transpose() / kLateral_m;
+    m.lateral_influence[0] = 1.0;
+    m.lateral_stiffness_N_per_m = K * m.lateral_influence.sum();
   }
-  m.influence_sum = m.influence.sum();
-  const double g_w = m.ring_influence[def.rings_w - 1];
-  Require(g_w > 1e-12, "tension_ratio too small: the deformation never reaches ring w (g_w = " +
-                           std::to_string(g_w) + ")");
-  m.critical_deflection_m = m.threshold_m / g_w;
+  // The depth table, each depth warm-started from the last, until the
+  // puncture force is passed by a fifth (the tip never goes deeper).
+  NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
+  for (int k = 0;; ++k) {
+    const double depth_m = k * def.table_step_m;
+    net.state.x_m(2, 0) = -depth_m;
+    m.static_residual_N = std::max(m.static_residual_N, net.Relax(kStaticTolerance_N, kMaxNewtonSteps, &m.newton_steps));
+    m.displacement_T_m.push_back(net.state.x_m - net.model.x0_m);
+    m.force_N.push_back(-K * m.displacement_T_m.back().row(2).sum());
+    if (k >= 2 && m.force_N.back() >= 1.2 * def.puncture_force_N) break;
+    Require(depth_m + def.table_step_m <= def.table_max_depth_m + 1e-12,
+            "the puncture force " + std::to_string(def.puncture_force_N) + " N is not reached within " +
+                std::to_string(def.table_max_depth_m) + " m of indentation (at most " +
+                std::to_string(m.force_N.back()) + " N)");
+  }
+  Require(m.static_residual_N < 1e-6, "the static solve did not converge (residual " +
+                                          std::to_string(m.static_residual_N) + " N)");
+  for (std::size_t k = 1; k < m.force_N.size(); ++k) {
+    if (m.force_N[k] < def.puncture_force_N) continue;
+    const double f = (def.puncture_force_N - m.force_N[k - 1]) / (m.force_N[k] - m.force_N[k - 1]);
+    m.puncture_depth_m = (static_cast<double>(k - 1) + f) * def.table_step_m;
+    break;
+  }
   return m;
+}
+
+namespace {
+
+// Table segment and fraction for a depth (clamped to the table).
+std::pair<std::size_t, double> TableAt(const ForceNetModel& m, double depth_m) {
+  const double last = static_cast<double>(m.force_N.size() - 1);
+  const double u = std::clamp(depth_m / m.def.table_step_m, 0.0, last);
+  const auto k = static_cast<std::size_t>(std::min(std::floor(u), last - 1.0));
+  return {k, u - static_cast<double>(k)};
+}
+
+}  // namespace
+
+double NetForceAtDepth_N(const ForceNetModel& m, double depth_m) {
+  const auto [k, f] = TableAt(m, depth_m);
+  return (1.0 - f) * m.force_N[k] + f * m.force_N[k + 1];
+}
+
+double NetStiffnessAtDepth_N_per_m(const ForceNetModel& m, double depth_m) {
+  const auto [k, f] = TableAt(m, depth_m);
+  return (m.force_N[k + 1] - m.force_N[k]) / m.def.table_step_m;
 }
 
 ForceNetState MakeForceNetState(const ForceNetModel& model) {
@@ -118,18 +184,29 @@ void PlaceForceNet(const ForceNetModel& model, const Eigen::Vector3d& n1_W_m, co
                    ForceNetState& s) {
   s.n1_rest_W_m = n1_W_m;
   s.normal_W = normal_W;
-  const Eigen::Vector3d t1 = normal_W.unitOrthogonal();
-  const Eigen::Vector3d t2 = normal_W.cross(t1);
+  s.t1_W = normal_W.unitOrthogonal();
+  s.t2_W = normal_W.cross(s.t1_W);
   const auto& off = model.topology.offset_T_m;
-  for (Eigen::Index i = 0; i < off.cols(); ++i) s.rest_W_m.col(i) = n1_W_m + off(0, i) * t1 + off(1, i) * t2;
+  for (Eigen::Index i = 0; i < off.cols(); ++i) s.rest_W_m.col(i) = n1_W_m + off(0, i) * s.t1_W + off(1, i) * s.t2_W;
   s.x_W_m = s.rest_W_m;
   s.ring_Z_m.setZero();
+  s.depth_m = 0.0;
   s.anchored = true;
 }
 
 void SolveForceNet(const ForceNetModel& model, const Eigen::Vector3d& n1_now_W_m, ForceNetState& s) {
   const Eigen::Vector3d u1 = n1_now_W_m - s.n1_rest_W_m;
-  for (Eigen::Index i = 0; i < s.x_W_m.cols(); ++i) s.x_W_m.col(i) = s.rest_W_m.col(i) + model.influence[i] * u1;
+  const double along_n = u1.dot(s.normal_W);
+  const Eigen::Vector3d lateral = u1 - along_n * s.normal_W;
+  s.depth_m = std::max(0.0, -along_n);
+  const auto [k, f] = TableAt(model, s.depth_m);
+  const Eigen::Matrix3Xd& a = model.displacement_T_m[k];
+  const Eigen::Matrix3Xd& b = model.displacement_T_m[k + 1];
+  for (Eigen::Index i = 0; i < s.x_W_m.cols(); ++i) {
+    const Eigen::Vector3d d = (1.0 - f) * a.col(i) + f * b.col(i);
+    s.x_W_m.col(i) = s.rest_W_m.col(i) + d.x() * s.t1_W + d.y() * s.t2_W + d.z() * s.normal_W +
+                     model.lateral_influence[i] * lateral;
+  }
   UpdateRingDeflections(model, s);
 }
 

@@ -16,12 +16,12 @@ ParamTable<AcupunctureParams> MakeTable() {
       .Add({.name = "shf_samples", .unit = "count", .min = 16, .max = AcupunctureLimits::kMaxShfSamples,
             .integer = true, .description = "surface samples per SH fit (at least (shf_lmax+1)^2)"},
            &P::shf_samples)
-      .Add({.name = "net_tension_ratio", .unit = "1", .min = 1e-3, .max = 1e4,
-            .description = "k_s / K of the force net's surface springs"},
-           &P::net_tension_ratio)
-      .Add({.name = "ring_w_threshold_ratio", .unit = "1", .min = 1e-6, .max = 0.5,
-            .description = "zeta / L: ring w counts as deformed (puncture) at Z_w >= zeta"},
-           &P::ring_w_threshold_ratio)
+      .Add({.name = "net_surface_ratio", .unit = "1", .min = 0.01, .max = 1e3,
+            .description = "k_s / K of the force nets' surface springs"},
+           &P::net_surface_ratio)
+      .Add({.name = "net_prestretch", .unit = "1", .min = 0, .max = 1,
+            .description = "pre-stretch of the surface springs: rest length L / (1 + prestretch)"},
+           &P::net_prestretch)
       .Add({.name = "springback_eta0", .unit = "1", .min = 0, .max = 1,
             .description = "shape-matching damping eta at puncture (1: particles stay)"},
            &P::springback_eta0)
@@ -69,6 +69,10 @@ ParamTable<AcupunctureParams> MakeTable() {
               .description = n + " Coulomb shaft friction per metre inserted (law 1; not in the paper)"},
              [i](const P& p) { return p.layers[i].shaft_coulomb_N_per_m; },
              [i](P& p, double v) { p.layers[i].shaft_coulomb_N_per_m = v; })
+        .Add({.name = n + "_puncture_force_N", .unit = "N", .min = 0.01, .max = 2.5,
+              .description = n + " force on the tip that pierces the layer, for a 0.3 mm needle (scales with its diameter)"},
+             [i](const P& p) { return p.layers[i].puncture_force_N; },
+             [i](P& p, double v) { p.layers[i].puncture_force_N = v; })
         .Add({.name = n + "_rings", .unit = "count", .min = 2, .max = AcupunctureLimits::kMaxRings, .integer = true,
               .description = n + " force-net rings w (Table 2)"},
              [i](const P& p) { return static_cast<double>(p.layers[i].rings_w); },

@@ -15,8 +15,11 @@ namespace {
 
 ForceNetDef NetDef(const AcupunctureParams& p, const TissueLayer& layer) {
   ForceNetDef d = ForceNetDefFor(layer);
-  d.tension_ratio = p.net_tension_ratio;
-  d.threshold_ratio = p.ring_w_threshold_ratio;
+  d.surface_ratio = p.net_surface_ratio;
+  d.prestretch = p.net_prestretch;
+  // A thicker needle needs more force to cut its way in: in proportion to
+  // its diameter (an assumption; docs/validation.md#acupuncture).
+  d.puncture_force_N = layer.puncture_force_N * (2.0 * p.needle_radius_m / kReferenceNeedleDiameter_m);
   return d;
 }
 
@@ -174,7 +177,7 @@ void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::
       }
       SolveForceNet(nets_[static_cast<std::size_t>(layer)], tip, s);
       net_moved_[static_cast<std::size_t>(layer)] = true;
-      if (DeformationReachedRingW(nets_[static_cast<std::size_t>(layer)], s)) {
+      if (PunctureForceReached(nets_[static_cast<std::size_t>(layer)], s)) {
         Puncture(layer, tip, axis);
         continue;
       }
@@ -196,9 +199,13 @@ void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::
 void AcupunctureScene::StartContact(int layer, const Eigen::Vector3d& tip) {
   const auto i = static_cast<std::size_t>(layer);
   const Eigen::Vector3d dir = tip - body_.Def().center_W_m;
-  const Eigen::Vector3d n1 = body_.SurfacePoint_W_m(layer, dir);
+  const Eigen::Vector3d normal = body_.OutwardNormal_W(layer, dir);
+  Eigen::Vector3d n1 = body_.SurfacePoint_W_m(layer, dir);
+  // The layer above, pressed millimetres deep before it gave way, carried
+  // this surface down with it: the layer starts unloaded at the tip.
+  if ((n1 - tip).dot(normal) > 0.0) n1 = tip;
   HideNet(layer);
-  PlaceForceNet(nets_[i], n1, body_.OutwardNormal_W(layer, dir), net_states_[i]);
+  PlaceForceNet(nets_[i], n1, normal, net_states_[i]);
   springing_back_[i] = false;
   punctured_once_[i] = false;
   ShowNet(layer);
@@ -272,8 +279,10 @@ void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen
     const Eigen::Vector3d& n = net_states_[0].normal_W;
     m.state = ContactState::kContact;
     m.normal_W = n;
-    m.stiffness_N_per_m =
-        std::min(net.def.virtual_K_N_per_m * net.influence_sum, params_.render_stiffness_max_N_per_m);
+    // The net's tangent stiffness at this depth (it stiffens as it deepens),
+    // capped at what the device renders stably.
+    m.stiffness_N_per_m = std::min(std::max(NetStiffnessAtDepth_N_per_m(net, net_states_[0].depth_m), 1.0),
+                                   params_.render_stiffness_max_N_per_m);
     m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
     const double fn_N = force_W_N_.dot(n);
     // Penetration p with k p - b (v·n) = F·n, so the law gives F at this tip.

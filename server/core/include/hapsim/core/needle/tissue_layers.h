@@ -25,12 +25,20 @@ struct TissueLayer {
   // Coulomb shaft friction per metre of shaft inside the layer [N/m] — an
   // extension of Table 1 (its law is viscous only); see PaperTissueLayers.
   double shaft_coulomb_N_per_m = 0.0;
+  // Normal force on the tip at which the layer's surface gives way, for a
+  // 0.3 mm needle (the scene scales it with the needle's diameter) — in the
+  // ranges of van Gerwen et al. 2012 (docs/validation.md#acupuncture).
+  double puncture_force_N = 0.0;
 };
+
+// The needle diameter the layers' puncture forces are given for [m].
+inline constexpr double kReferenceNeedleDiameter_m = 3e-4;
 
 // Table 2: skin 0.8 mm / 0.16 N/mm / d 3 / w 8 / L 2 mm; fat 8.4 / 0.08 / 1 /
 // 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5. Shaft Coulomb friction (not in the
 // paper; our estimate, docs/validation.md#shaft-friction): skin 1, fat 0.5,
-// muscle 1.5 N per metre inserted.
+// muscle 1.5 N per metre inserted. Puncture forces (not in the paper's
+// tables): skin 1.0 N, fat 0.2 N, muscle (fascia) 1.5 N.
 std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers();
 
 // Table 1 damping along the shaft [N·s/m]: Σ_i d_i · h_i with h_i the length

@@ -28,12 +28,14 @@ struct AcupunctureLimits {
 struct AcupunctureParams {
   int shf_lmax = 8;
   int shf_samples = 600;
-  double net_tension_ratio = 30.0;
-  double ring_w_threshold_ratio = 0.02;
+  double net_surface_ratio = 1.0;   // k_s / K of the force nets' surface springs
+  double net_prestretch = 0.02;     // their pre-stretch (rest length L / 1.02)
   double springback_eta0 = 1.0;
   double springback_eta_rate_per_step = 0.02;
   double tunnel_stiffness_N_per_m = 300.0;
-  double render_stiffness_max_N_per_m = 2000.0;
+  // The Phantom Omni renders at most 1.02 N/mm stably on its weakest axis
+  // (z; SensAble's specification: x 1.26, y 2.31, z 1.02 N/mm).
+  double render_stiffness_max_N_per_m = 1000.0;
   double contact_damping_Ns_per_m = 0.5;
   // Shaft friction (docs/validation.md#shaft-friction). Law 0: Table 1's
   // viscous damping alone (the paper; what `hapsim-validate puncture`
