@@ -1,4 +1,13 @@
 # HAPSIM_SANITIZE="address;undefined" or "thread": applied to every target.
+# HAPSIM_FUZZ: every target is instrumented for libFuzzer plus ASan+UBSan;
+# the fuzz executables (tests/fuzz) link the fuzzer's main.
+if(HAPSIM_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "HAPSIM_FUZZ needs clang: configure with CC=clang CXX=clang++")
+  endif()
+  set(HAPSIM_SANITIZE "address;undefined")
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()
 if(HAPSIM_SANITIZE)
   string(REPLACE ";" "," _san "${HAPSIM_SANITIZE}")
   add_compile_options(-fsanitize=${_san} -fno-omit-frame-pointer -fno-sanitize-recover=undefined)

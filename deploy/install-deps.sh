@@ -9,6 +9,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   python3 python3-scipy python3-numpy python3-grpcio
+  clang libfuzzer-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
