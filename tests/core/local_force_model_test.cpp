@@ -1,5 +1,7 @@
 #include "hapsim/core/haptics/local_force_model.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace hapsim::core {
@@ -63,6 +65,23 @@ TEST(LocalForceModel, PuncturedShaftSticksBelowTheCoulombLevelAndSlipsAtIt) {
   EXPECT_NEAR(EvaluateLocalForce(m, {0, 0, -0.01 - 1e-3}, still).z(), 0.04, 1e-15);
   m.stick_stiffness_N_per_m = 0.0;  // the paper's law: no Coulomb part
   EXPECT_EQ(EvaluateLocalForce(m, {0, 0, -0.01 + 1e-3}, still).z(), 0.0);
+}
+
+// A negative or NaN Coulomb level from the wire is no friction at all (not
+// a crossed clamp, not a drag that pushes along the motion).
+TEST(LocalForceModel, ANegativeOrNanCoulombLevelGivesNoFriction) {
+  for (const double bad : {-0.5, std::nan("")}) {
+    LocalForceModel m;
+    m.state = ContactState::kPunctured;
+    m.normal_W = {0, 0, 1};
+    m.stick_stiffness_N_per_m = 300.0;
+    m.drag_N = bad;
+    EXPECT_EQ(EvaluateLocalForce(m, {0, 0, 1e-3}, Eigen::Vector3d::Zero()).z(), 0.0);
+    m.state = ContactState::kCutting;
+    m.anchor_W_m = {0, 0, -1};  // no penetration: only the drag could act
+    m.drag_direction_W = {1, 0, 0};
+    EXPECT_EQ(EvaluateLocalForce(m, {0, 0, 0}, {0.01, 0, 0}).x(), 0.0);
+  }
 }
 
 }  // namespace

@@ -282,6 +282,14 @@ TEST_F(ServerAppTest, ScoresAreCheckedAndCombinedOverTheClass) {
     return sessions_->SubmitScores(&ctx, req, report);
   };
   hapsim::v1::ScoreReport report;
+  {  // Nothing scored yet: the class report is empty, not an error.
+    grpc::ClientContext ctx;
+    hapsim::v1::ScoreQuery all;
+    ASSERT_TRUE(sessions_->GetScores(&ctx, all, &report).ok());
+    EXPECT_EQ(report.sessions_size(), 0);
+    EXPECT_EQ(report.subjective_weights_size(), 7);
+    report.Clear();
+  }
   EXPECT_EQ(submit("ta", {1, 2, 3}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(submit("ta", {8, 6, 7, 9, 5, 8, 11}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(submit("ghost", {8, 6, 7, 9, 5, 8, 7}, &report).error_code(), grpc::StatusCode::NOT_FOUND);

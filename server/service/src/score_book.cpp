@@ -28,6 +28,12 @@ void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* o
   if (!session_id.empty() && !sheets_.count(session_id)) {
     throw ServiceError(ErrorCode::kNotFound, "no scores for session '" + session_id.substr(0, 80) + "'");
   }
+  if (sheets_.empty()) {  // nothing scored yet: the class weights only, no sessions
+    const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
+    for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
+    out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
+    return;
+  }
   // One row per scored session: the mean over its experts.
   std::vector<std::string> ids;
   Eigen::MatrixXd class_scores(static_cast<Eigen::Index>(sheets_.size()), static_cast<Eigen::Index>(kIndicators));

@@ -18,6 +18,10 @@ const char* ToString(ContactState s) {
 Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector3d& x,
                                    const Eigen::Vector3d& v) {
   const Eigen::Vector3d& n = m.normal_W;
+  // A Coulomb level is a magnitude: a negative or NaN one from the wire
+  // counts as none (else the drag would push along the motion, and the
+  // stick clamp's bounds would cross).
+  const double coulomb_N = std::max(0.0, m.drag_N);
   switch (m.state) {
     case ContactState::kFree:
       return m.feedforward_W_N;
@@ -30,14 +34,14 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
       if (m.state == ContactState::kCutting) {
         const Eigen::Vector3d& t = m.drag_direction_W;
         const double v_t = v.dot(t);
-        f -= (m.drag_N * std::tanh(v_t / kDragSmoothingSpeed_m_per_s) + m.drag_damping_Ns_per_m * v_t) * t;
+        f -= (coulomb_N * std::tanh(v_t / kDragSmoothingSpeed_m_per_s) + m.drag_damping_Ns_per_m * v_t) * t;
       }
       return f;
     }
     case ContactState::kPunctured: {
       const Eigen::Vector3d r = x - m.anchor_W_m;
       const Eigen::Vector3d lateral = r - r.dot(n) * n;
-      const double stick_N = std::clamp(m.stick_stiffness_N_per_m * (x - m.stick_W_m).dot(n), -m.drag_N, m.drag_N);
+      const double stick_N = std::clamp(m.stick_stiffness_N_per_m * (x - m.stick_W_m).dot(n), -coulomb_N, coulomb_N);
       return m.feedforward_W_N - m.stiffness_N_per_m * lateral - (m.damping_Ns_per_m * v.dot(n) + stick_N) * n;
     }
   }
