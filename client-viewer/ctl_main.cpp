@@ -6,6 +6,8 @@
 #include <mutex>
 #include <cstdlib>
 #include <sstream>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -106,6 +108,28 @@ int main(int argc, char** argv) {
     return "";
   };
   auto positional = [&]() -> std::string { return args.size() >= 2 && args[1].rfind("--", 0) != 0 ? args[1] : ""; };
+  // Every option after the command must be one the command takes, with a
+  // value: a typo is an error, never a silent default.
+  const std::map<std::string, std::set<std::string>> options_of = {
+      {"create", {"--id", "--scene", "--owner", "--param"}},
+      {"snapshot", {"--obj"}},
+      {"score", {"--indicators", "--expert"}},
+  };
+  {
+    const auto known = options_of.find(command);
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      if (args[i].rfind("--", 0) != 0) continue;
+      if (known == options_of.end() || !known->second.count(args[i])) {
+        std::fprintf(stderr, "hapsim-ctl: %s does not take option '%s'\n%s", command.c_str(), args[i].c_str(), kUsage);
+        return 2;
+      }
+      if (i + 1 >= args.size()) {
+        std::fprintf(stderr, "hapsim-ctl: option '%s' needs a value\n", args[i].c_str());
+        return 2;
+      }
+      ++i;
+    }
+  }
 
   auto channel = grpc::CreateChannel(server, grpc::InsecureChannelCredentials());
   auto stub = hapsim::v1::SessionService::NewStub(channel);

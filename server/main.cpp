@@ -108,10 +108,25 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hapsim-server: --tick-hz must be within [10, 10000]\n");
     return 2;
   }
-  if (!(quantum_mm > 0.0 && quantum_mm <= 1.0) || max_sessions < 1 || dds_domain < 0 || dds_domain > 232 ||
-      !(pose_timeout_ms > 0.0) || !(pose_slack_ms >= 0.0 && pose_slack_ms <= pose_timeout_ms) ||
-      options.workers < 0 || options.workers > 64 || options.max_message_bytes < 1024) {
-    std::fprintf(stderr, "hapsim-server: a flag is out of range (see --help)\n");
+  // Each flag's range, named in the message (a bad value must not surface
+  // later as a client's error).
+  const struct {
+    bool ok;
+    const char* flag;
+    const char* range;
+  } ranges[] = {
+      {quantum_mm > 0.0 && quantum_mm <= 1.0, "--quantum-mm", "(0, 1]"},
+      {max_sessions >= 1, "--max-sessions", ">= 1"},
+      {dds_domain >= 0 && dds_domain <= 232, "--dds-domain", "[0, 232]"},
+      {pose_timeout_ms > 0.0 && pose_timeout_ms <= 60000.0, "--pose-timeout-ms", "(0, 60000]"},
+      {pose_slack_ms >= 0.0 && pose_slack_ms <= pose_timeout_ms, "--pose-slack-ms", "[0, --pose-timeout-ms]"},
+      {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
+      {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
+      {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz", "(0, 1000]"},
+  };
+  for (const auto& r : ranges) {
+    if (r.ok) continue;
+    std::fprintf(stderr, "hapsim-server: %s must be within %s (see --help)\n", r.flag, r.range);
     return 2;
   }
   if (!hapsim::common::SetUpLogging("server", log_level)) {
