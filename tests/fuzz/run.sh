@@ -5,7 +5,9 @@
 #   Campaign (docs/reliability.md): tests/fuzz/run.sh 0 1000000   (>= 10^6 executions each)
 # Builds build-fuzz with clang (ASan + UBSan + libFuzzer) first. New inputs
 # go to a scratch corpus, never into the repository's seeds; a crash leaves
-# its input in build-fuzz/crashes/<name>/ and the script exits 1.
+# its input in build-fuzz/crashes/<name>/ and the script exits 1. An input
+# slower than 60 s counts as a hang (a session-service input may build a
+# scene at its limits: seconds under ASan).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 seconds=${1:-20}
@@ -26,7 +28,7 @@ for exe in "$build"/fuzz/fuzz_*; do
   [ "$seconds" != 0 ] && limit+=(-max_total_time="$seconds")
   echo "== fuzz_$name (${seconds}s, runs $runs)"
   if ! ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-      "$exe" "$scratch" "$seeds" "${limit[@]}" -runs="$runs" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
+      "$exe" "$scratch" "$seeds" "${limit[@]}" -runs="$runs" -max_len=4096 -timeout=60 -rss_limit_mb=2048 \
       -artifact_prefix="$crashes/" -print_final_stats=1 2>"$build/fuzz_$name.log"; then
     echo "fuzz_$name: FAILED (input in $crashes/, log $build/fuzz_$name.log)"
     tail -40 "$build/fuzz_$name.log"
