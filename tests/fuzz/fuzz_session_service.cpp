@@ -12,6 +12,7 @@
 #include <string>
 
 #include <grpcpp/server_context.h>
+#include <spdlog/spdlog.h>
 
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/session_registry.h"
@@ -85,6 +86,7 @@ void WriteSeeds(const std::string& dir) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  spdlog::set_level(spdlog::level::off);  // thousands of sessions: their log lines would drown the fuzzer's
   if (const char* dir = std::getenv("HAPSIM_FUZZ_WRITE_SEEDS")) {
     WriteSeeds(dir);
     std::exit(0);
