@@ -159,5 +159,21 @@ TEST(SceneParams, CuttingRefusesAnUnstableStepNamingTheParameters) {
   }
 }
 
+// A megabyte-long unknown key or scene name is refused with a message that
+// echoes at most 80 of its characters (docs/reliability.md, gap 7).
+TEST(SceneParams, AnUnknownKeyOrSceneIsEchoedBounded) {
+  const std::string huge(1 << 20, 'k');
+  for (const SceneSpec& spec : {SceneSpec{"tissue_block", {{huge, 1.0}}}, SceneSpec{huge, {}}}) {
+    try {
+      (void)MakeScene(spec);
+      ADD_FAILURE() << "accepted";
+    } catch (const std::invalid_argument& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(std::string(80, 'k') + "'"), std::string::npos);
+      EXPECT_LT(what.size(), 2000u);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hapsim::core

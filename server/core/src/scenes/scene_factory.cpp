@@ -58,7 +58,7 @@ std::unique_ptr<Scene> MakeScene(const SceneSpec& spec) {
   }
   std::string known;
   for (const auto& e : kCatalog) known += std::string(known.empty() ? "" : ", ") + e.name;
-  throw std::invalid_argument("unknown scene '" + spec.name + "' (known: " + known + ")");
+  throw std::invalid_argument("unknown scene '" + spec.name.substr(0, 80) + "' (known: " + known + ")");  // echo bounded
 }
 
 }  // namespace hapsim::core

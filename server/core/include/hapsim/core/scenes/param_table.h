@@ -79,7 +79,9 @@ class ParamTable {
     P p{};
     for (const auto& [key, value] : values) {
       const Entry* e = Find(key);
-      if (!e) throw std::invalid_argument(scene_ + ": unknown parameter '" + key + "' (known: " + KnownKeys() + ")");
+      // The key is echoed cut to 80 characters: a client's megabyte of
+      // garbage must not come back as a megabyte of status message.
+      if (!e) throw std::invalid_argument(scene_ + ": unknown parameter '" + key.substr(0, 80) + "' (known: " + KnownKeys() + ")");
       if (const std::string why = CheckParamValue(e->spec, value); !why.empty()) {
         throw std::invalid_argument(scene_ + ": parameter " + why);
       }
