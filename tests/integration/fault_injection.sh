@@ -17,8 +17,11 @@ source "$(dirname "$0")/lib.sh" "$@"
 seed=${FAULT_SEED:-$RANDOM}
 RANDOM=$seed
 echo "fault injection seed $seed (FAULT_SEED=$seed reproduces the moments)"
-client_prefix=()
-if taskset -c 1 true 2>/dev/null; then server_prefix=(taskset -c 0); client_prefix=(taskset -c 1); fi
+# The server and session fb's clients on core 0, session fa's churning
+# clients on core 1: process starts (library loading, DDS discovery) must not
+# starve fb's bridge of CPU, which would age its models on the client side.
+client_prefix=(); fb_prefix=()
+if taskset -c 1 true 2>/dev/null; then server_prefix=(taskset -c 0); client_prefix=(taskset -c 1); fb_prefix=(taskset -c 0); fi
 start_server "fa:tissue_block,fb:tissue_block"
 ctl=("${client_prefix[@]}" timeout 20 "$bin/hapsim-ctl" --server "$addr" --timeout-s 10)
 press=(--script insertion --start-height-mm 2 --depth-mm 3 --speed-mm-s 20 --hold-s 120 --dds-domain "$domain")
@@ -31,9 +34,9 @@ healthy() {  # after an event: the server answers and lists both sessions
 }
 random_sleep() { local ms=$(( $1 + RANDOM % $2 )); sleep "$(printf '%d.%03d' $((ms / 1000)) $((ms % 1000)))"; }
 
-"${client_prefix[@]}" "$bin/hapsim-bridge" --session fb --device-id 2 "${press[@]}" >fb_bridge.out 2>fb_bridge.log &
+"${fb_prefix[@]}" "$bin/hapsim-bridge" --session fb --device-id 2 "${press[@]}" >fb_bridge.out 2>fb_bridge.log &
 fb_bridge=$!; pids+=("$fb_bridge")
-"${client_prefix[@]}" "$bin/hapsim-viewer" --server "$addr" --session fb --seconds 60 >fb_viewer.out 2>fb_viewer.log &
+"${fb_prefix[@]}" "$bin/hapsim-viewer" --server "$addr" --session fb --seconds 60 >fb_viewer.out 2>fb_viewer.log &
 fb_viewer=$!; pids+=("$fb_viewer")
 
 start_fa() {
