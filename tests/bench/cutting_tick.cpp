@@ -131,12 +131,8 @@ void BM_BladeCollision(benchmark::State& state) {
       grid.Build(skin.state.x_m, skin.model.node_live);
       CollideWithGrid(blade, skin.state.x_m, grid, hits);
     } else {
-      double max2 = 0.0;
-      for (Eigen::Index i = 0; i < skin.state.x_m.cols(); ++i) {
-        const double d2 = (skin.state.x_m.col(i) - skin.model.x0_m.col(i)).squaredNorm();
-        max2 = skin.model.node_live[static_cast<std::size_t>(i)] && d2 > max2 ? d2 : max2;
-      }
-      CollideWithShiftedGrid(blade, skin.state.x_m, grid, std::sqrt(max2), hits);
+      const double shift = MaxDisplacement_m(skin.state.x_m, skin.model.x0_m, skin.model.node_live, skin.state.x_m.cols());
+      CollideWithShiftedGrid(blade, skin.state.x_m, grid, shift, hits);
     }
     benchmark::DoNotOptimize(hits.data());
   }

@@ -42,6 +42,16 @@ void CollideWithGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const Unifo
   CollideWithShiftedGrid(c, x_m, grid, 0.0, out);
 }
 
+double MaxDisplacement_m(const Eigen::Matrix3Xd& x_m, const Eigen::Matrix3Xd& x0_m, std::span<const std::uint8_t> live,
+                         Eigen::Index count) {
+  double max2 = 0.0;
+  for (Eigen::Index i = 0; i < count; ++i) {
+    const double d2 = (x_m.col(i) - x0_m.col(i)).squaredNorm();
+    max2 = live[static_cast<std::size_t>(i)] && d2 > max2 ? d2 : max2;
+  }
+  return std::sqrt(max2);
+}
+
 void CollideWithShiftedGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,
                             double max_shift_m, std::vector<std::uint32_t>& out) {
   out.clear();

@@ -138,7 +138,9 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
         rest_grid_.Build(skin_.model.x0_m, skin_.model.node_live);
         rest_grid_version_ = skin_.topology.Version();
       }
-      CollideWithShiftedGrid(blade, st.x_m, rest_grid_, MaxShiftFromRest_m(), colliding_);
+      const Eigen::Index used = std::min<Eigen::Index>(st.x_m.cols(), skin_.topology.Vertices().HighWater());
+      CollideWithShiftedGrid(blade, st.x_m, rest_grid_, MaxDisplacement_m(st.x_m, skin_.model.x0_m, skin_.model.node_live, used),
+                             colliding_);
     }
     UpdateCut(tool, blade);
     ApplyContact(tool, blade);
@@ -323,19 +325,6 @@ void CuttingScene::Reset() {
   status_.tip_depth_m = 0.0;
   Log(SceneEventKind::kReset, Eigen::Vector3d::Zero());
   reset_epoch_ = ResetEpoch::Now(*this);
-}
-
-double CuttingScene::MaxShiftFromRest_m() const {
-  const auto& x = skin_.state.x_m;
-  const auto& x0 = skin_.model.x0_m;
-  const auto& live = skin_.model.node_live;
-  double max2 = 0.0;
-  const Eigen::Index n = std::min<Eigen::Index>(x.cols(), static_cast<Eigen::Index>(skin_.topology.Vertices().HighWater()));
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double d2 = (x.col(i) - x0.col(i)).squaredNorm();
-    max2 = live[static_cast<std::size_t>(i)] && d2 > max2 ? d2 : max2;
-  }
-  return std::sqrt(max2);
 }
 
 void CuttingScene::NumericalReset() {

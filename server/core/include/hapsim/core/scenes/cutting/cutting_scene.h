@@ -82,7 +82,6 @@ class CuttingScene final : public Scene {
   void UpdateBladeMesh(const Cylinder& blade);
   void Log(SceneEventKind kind, const Eigen::Vector3d& where, double value = 0.0);
   void NumericalReset();
-  double MaxShiftFromRest_m() const;  // over live nodes
 
   CuttingParams params_;
   SkinMesh skin_;
