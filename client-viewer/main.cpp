@@ -47,12 +47,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "hapsim-viewer: this build has no on-screen renderer yet; run with --headless\n");
     return 2;
   }
-  if (frames < 0 || !(options.max_seconds >= 0.0) || !(options.max_rate_hz >= 0.0) || !(options.connect_timeout_s > 0.0)) {
-    std::fprintf(stderr, "hapsim-viewer: a flag is out of range (see --help)\n");
-    return 2;
-  }
-  if (ack_window < 0 || ack_window > 64) {
-    std::fprintf(stderr, "hapsim-viewer: --ack-window must be within [0, 64]\n");
+  using hapsim::common::kMaxFlagSeconds;
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {frames >= 0, "--frames", ">= 0"},
+      {options.max_seconds >= 0.0 && options.max_seconds <= kMaxFlagSeconds, "--seconds",
+       hapsim::common::kMaxFlagSecondsRange},
+      {options.max_rate_hz == 0.0 || (options.max_rate_hz >= 0.01 && options.max_rate_hz <= 1000.0), "--max-rate-hz",
+       "0 or [0.01, 1000]"},
+      {ack_window >= 0 && ack_window <= 64, "--ack-window", "[0, 64]"},
+      {options.connect_timeout_s > 0.0 && options.connect_timeout_s <= 3600.0, "--connect-timeout-s", "(0, 3600]"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", out_of_range.c_str());
     return 2;
   }
   options.ack_window = static_cast<std::uint32_t>(ack_window);

@@ -10,6 +10,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "backends/synthetic_device.h"
 #include "hapsim/bridge/device_flags.h"
 #include "hapsim/bridge/device_dds.h"
 #include "hapsim/bridge/load_plan.h"
@@ -84,8 +85,17 @@ int main(int argc, char** argv) {
   hapsim::bridge::AddProcessFlags(flags, &process);
   const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-load", "load");
   if (parse_exit >= 0) return parse_exit;
-  if (!(rate_hz >= 100.0 && rate_hz <= 10000.0) || !(seconds >= 0.0) || first_device_id < 0) {
-    std::fprintf(stderr, "hapsim-load: a flag is out of range (see --help)\n");
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
+      {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
+      {first_device_id >= 0, "--first-device-id", ">= 0"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-load: %s\n", out_of_range.c_str());
+    return 2;
+  }
+  if (const std::string bad = hapsim::bridge::CheckSceneParams(params); !bad.empty()) {
+    std::fprintf(stderr, "hapsim-load: %s\n", bad.c_str());
     return 2;
   }
 
@@ -96,6 +106,7 @@ int main(int argc, char** argv) {
     plan_options.sessions = hapsim::bridge::SplitCommaList(sessions);
     plan_options.first_device_id = static_cast<std::uint32_t>(first_device_id);
     plan_options.script = script.ToScript();
+    hapsim::bridge::ValidateSyntheticScript(plan_options.script);
     plan = hapsim::bridge::PlanDevices(plan_options);
     run_config.safety = safety.ToConfig();
   } catch (const std::exception& e) {

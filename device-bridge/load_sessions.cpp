@@ -2,6 +2,14 @@
 
 namespace hapsim::bridge {
 
+std::string CheckSceneParams(const std::string& params) {
+  v1::CreateSessionRequest scratch;
+  for (const auto& kv : SplitCommaList(params)) {
+    if (!viewer::AddSceneParam(kv, scratch.mutable_params())) return "--params wants KEY=NUMBER,..., got '" + kv + "'";
+  }
+  return "";
+}
+
 std::string CreateSessions(viewer::SessionClient& client, const std::vector<LoadDevicePlan>& plan,
                            const SessionSpec& spec, std::vector<std::string>* created) {
   v1::CreateSessionRequest request;

@@ -17,6 +17,10 @@ struct SessionSpec {
   std::string owner = "hapsim-load";
 };
 
+// "" if every KEY=NUMBER in the comma list parses, else what is wrong (the
+// caller exits 2 before starting anything).
+std::string CheckSceneParams(const std::string& params);
+
 // Creates one session per planned device, in order. On the first failure it
 // closes the ones it created and returns the error ("session 'x': CODE:
 // server message"); on success returns "" and *created lists every id.

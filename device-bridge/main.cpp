@@ -16,6 +16,7 @@
 #include "hapsim/bridge/device_flags.h"
 #include "hapsim/bridge/servo_loop.h"
 #include "hapsim/common/flags.h"
+#include "hapsim/common/session_id.h"
 #include "stop_on_signal.h"
 
 namespace {
@@ -62,7 +63,8 @@ int main(int argc, char** argv) {
       "hapsim-bridge",
       "Device-bridge of hapsim: reads a haptic device at the servo rate, publishes its pose over DDS,\n"
       "and renders the physics server's local force model with a force clamp, a rise-rate limit and a\n"
-      "staleness watchdog. Backends: synthetic (scripted motion), replay (pose log CSV).");
+      "staleness watchdog. Backends: synthetic (scripted motion), replay (pose log CSV).\n\n"
+      "Exit: 0 done, 1 runtime error (DDS, an unreadable replay file), 2 bad flags.");
   flags.Add("session", &session, "session id to drive");
   flags.Add("device-id", &device_id, "device id (unique per device on the DDS domain)");
   flags.Add("backend", &backend, "synthetic or replay");
@@ -76,23 +78,37 @@ int main(int argc, char** argv) {
   hapsim::bridge::AddProcessFlags(flags, &process);
   const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-bridge", "bridge");
   if (parse_exit >= 0) return parse_exit;
-  if (!(rate_hz >= 100.0 && rate_hz <= 10000.0) || !(seconds >= 0.0) || device_id < 0 || session.empty() ||
-      session.size() > 63) {
-    std::fprintf(stderr, "hapsim-bridge: a flag is out of range (see --help)\n");
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
+      {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
+      {device_id >= 0, "--device-id", ">= 0"},
+      {hapsim::common::IsValidSessionId(session), "--session", "[A-Za-z0-9_-]{1,63}"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-bridge: %s\n", out_of_range.c_str());
     return 2;
   }
-
+  // Flags that are wrong together or out of range in the script or safety
+  // settings: exit 2 like any bad flag (a replay file that cannot be read is
+  // a runtime error, exit 1, below).
+  hapsim::bridge::SafetyConfig safety_config;
+  std::unique_ptr<hapsim::bridge::HapticDevice> device;
   try {
-    const hapsim::bridge::SafetyConfig safety_config = safety.ToConfig();
-    std::unique_ptr<hapsim::bridge::HapticDevice> device;
+    safety_config = safety.ToConfig();
     if (backend == "synthetic") {
       device = std::make_unique<hapsim::bridge::SyntheticDevice>(script.ToScript());
     } else if (backend == "replay") {
       if (replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
-      device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(replay_file));
     } else {
       throw std::invalid_argument("unknown backend '" + backend + "' (synthetic or replay)");
     }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
+    return 2;
+  }
+
+  try {
+    if (!device) device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(replay_file));
 
     hapsim::bridge::BridgeDds dds(process.Dds(),
                                   static_cast<std::uint32_t>(device_id), session);

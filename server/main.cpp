@@ -39,12 +39,13 @@ bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std
 void PrintSummary(hapsim::service::ServerApp& app) {
   const auto& d = app.dds().counters();
   const auto pool = app.pool().stats();
-  std::printf("server: poses accepted %llu, rejected %llu, wrong-session %llu, other-device %llu; "
+  std::printf("server: poses accepted %llu, rejected %llu, wrong-session %llu, other-device %llu, stale %llu; "
               "force models written %llu; tick pool %d workers, %llu ticks, %llu wake-ups\n",
               static_cast<unsigned long long>(d.poses_accepted.load()),
               static_cast<unsigned long long>(d.poses_rejected.load()),
               static_cast<unsigned long long>(d.poses_wrong_session.load()),
               static_cast<unsigned long long>(d.poses_other_device.load()),
+              static_cast<unsigned long long>(d.poses_stale.load()),
               static_cast<unsigned long long>(d.force_models_written.load()), app.pool().workers(),
               static_cast<unsigned long long>(pool.ticks), static_cast<unsigned long long>(pool.wakeups));
   for (const auto& s : app.registry().List()) {
@@ -110,11 +111,7 @@ int main(int argc, char** argv) {
   }
   // Each flag's range, named in the message (a bad value must not surface
   // later as a client's error).
-  const struct {
-    bool ok;
-    const char* flag;
-    const char* range;
-  } ranges[] = {
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
       {quantum_mm > 0.0 && quantum_mm <= 1.0, "--quantum-mm", "(0, 1]"},
       {max_sessions >= 1, "--max-sessions", ">= 1"},
       {dds_domain >= 0 && dds_domain <= 232, "--dds-domain", "[0, 232]"},
@@ -123,10 +120,9 @@ int main(int argc, char** argv) {
       {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
       {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
       {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz", "(0, 1000]"},
-  };
-  for (const auto& r : ranges) {
-    if (r.ok) continue;
-    std::fprintf(stderr, "hapsim-server: %s must be within %s (see --help)\n", r.flag, r.range);
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-server: %s\n", out_of_range.c_str());
     return 2;
   }
   if (!hapsim::common::SetUpLogging("server", log_level)) {

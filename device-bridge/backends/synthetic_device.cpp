@@ -6,8 +6,7 @@
 
 namespace hapsim::bridge {
 
-SyntheticDevice::SyntheticDevice(SyntheticScript script) : script_(std::move(script)), rng_(script_.seed) {
-  const auto& s = script_;
+void ValidateSyntheticScript(const SyntheticScript& s) {
   if (s.kind != "insertion" && s.kind != "constant_speed" && s.kind != "random_walk" && s.kind != "hold" &&
       s.kind != "cut") {
     throw std::invalid_argument("unknown synthetic script '" + s.kind +
@@ -20,8 +19,14 @@ SyntheticDevice::SyntheticDevice(SyntheticScript script) : script_(std::move(scr
   if (!(s.speed_m_per_s > 0.0 && s.speed_m_per_s <= 1.0)) throw std::invalid_argument("speed must be in (0, 1] m/s");
   if (!(s.depth_m >= 0.0 && s.depth_m <= 0.2)) throw std::invalid_argument("depth must be in [0, 0.2] m");
   if (!(s.start_height_m >= 0.0 && s.start_height_m <= 0.2)) throw std::invalid_argument("start height must be in [0, 0.2] m");
-  if (!(s.hold_s >= 0.0)) throw std::invalid_argument("hold time must be >= 0 s");
+  if (!(s.hold_s >= 0.0 && s.hold_s <= 1e7)) throw std::invalid_argument("hold time must be in [0, 1e7] s");
   if (!(s.walk_step_m >= 0.0 && s.walk_radius_m >= 0.0)) throw std::invalid_argument("random-walk sizes must be >= 0");
+  if (!s.entry_W_m.allFinite()) throw std::invalid_argument("entry point must be finite");
+}
+
+SyntheticDevice::SyntheticDevice(SyntheticScript script) : script_(std::move(script)), rng_(script_.seed) {
+  const auto& s = script_;
+  ValidateSyntheticScript(s);
   walk_W_m_ = s.entry_W_m + Eigen::Vector3d(0, 0, s.start_height_m);
 }
 

@@ -41,9 +41,13 @@ struct SyntheticScript {
   double blade_tilt_rad = 0.5236; // cut: blade leaning back from vertical (30°)
 };
 
+// Throws std::invalid_argument naming the first field out of range (speed,
+// depth, heights, hold time, cut geometry, unknown kind).
+void ValidateSyntheticScript(const SyntheticScript& script);
+
 class SyntheticDevice final : public HapticDevice {
  public:
-  explicit SyntheticDevice(SyntheticScript script);  // throws std::invalid_argument
+  explicit SyntheticDevice(SyntheticScript script);  // throws std::invalid_argument (ValidateSyntheticScript)
   std::string Name() const override { return "synthetic/" + script_.kind; }
   DeviceReading Read(double t_s) override;
   void CommandForce(const Eigen::Vector3d& force_W_N) override { last_force_W_N_ = force_W_N; }

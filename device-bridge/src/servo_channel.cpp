@@ -28,6 +28,7 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
     : device_(device),
       period_s_(config.period_s),
       safety_(config.safety),
+      warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
       round_trip_s_(config.stats_window),
       model_age_s_(config.stats_window) {
   pose_.device_id = config.device_id;
@@ -58,9 +59,19 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
 
 void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   tick_.round_trip_s = -1.0;
-  if (!inbox.TakeIfNew(&model_)) return;
-  const std::uint64_t echo = model_.msg.echo_pose_seq;
-  if (counters_.models_taken > 0 && echo < counters_.last_echo_seq) ++counters_.echo_regressions;
+  ReceivedModel incoming;
+  if (!inbox.TakeIfNew(&incoming)) return;
+  const std::uint64_t echo = incoming.msg.echo_pose_seq;
+  // A model computed from an older pose than the held one was overtaken in
+  // transit: it describes where the tool was, so it is discarded. Only while
+  // the held model is fresh — if the stream stalled (held model older than
+  // the watchdog's warning age), whatever arrives is newer than what we hold.
+  const bool held_is_fresh = have_model_ && sensed_ns_ - model_.received_ns <= warn_age_ns_;
+  if (held_is_fresh && echo < counters_.last_echo_seq) {
+    ++counters_.echo_regressions;
+    return;
+  }
+  model_ = incoming;
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
   ++counters_.models_taken;

@@ -77,15 +77,38 @@ TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
   EXPECT_EQ(channel_.RoundTrip().count, 0u);
 }
 
-TEST_F(ServoChannelTest, AnEchoOlderThanThePreviousCountsAsARegression) {
+TEST_F(ServoChannelTest, AModelOvertakenInTransitIsDiscardedAndCounted) {
+  // Echo 1 arrives after echo 2 (reordered): the tool keeps the force of the
+  // newer model, 2 mm x 500 N/m, not echo 1's 5 mm.
   for (std::uint64_t echo : {0u, 2u, 1u, 3u}) {
     channel_.Sense(0.0);
-    inbox_.Publish(ContactModel(echo, common::SteadyNowNs()));
-    channel_.Actuate(inbox_);
+    ReceivedModel m = ContactModel(echo, common::SteadyNowNs());
+    if (echo == 1) m.msg.anchor_m[2] = 0.003;  // the overtaken model would ask for 5 mm
+    inbox_.Publish(m);
+    const ChannelTick& tick = channel_.Actuate(inbox_);
+    if (echo == 1) {
+      EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);
+    }
   }
   EXPECT_EQ(channel_.counters().echo_regressions, 1u);
+  EXPECT_EQ(channel_.counters().models_taken, 3u);
   EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
   EXPECT_EQ(channel_.counters().last_echo_seq, 3u);
+}
+
+TEST_F(ServoChannelTest, AfterAStallAnOlderEchoIsTakenNotDiscarded) {
+  // Held model echoes 100 and was received 30 ms ago (past the 20 ms warning):
+  // the stream stalled (e.g. the server restarted), so a model echoing 50 is
+  // taken - discarding it would keep the device on a stale model.
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(100, common::SteadyNowNs() - 30 * kMsNs));
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(50, common::SteadyNowNs()));
+  channel_.Actuate(inbox_);
+  EXPECT_EQ(channel_.counters().echo_regressions, 0u);
+  EXPECT_EQ(channel_.counters().models_taken, 2u);
+  EXPECT_EQ(channel_.counters().last_echo_seq, 50u);
 }
 
 TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZeroForce) {

@@ -373,12 +373,17 @@ TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
     std::this_thread::sleep_for(100ms);
     Ack(reader.get(), frame.seq());
   }
+  // ~2.5 s of 60 Hz snapshots (~150) met 25 reads: every snapshot that found
+  // the window full was coalesced, and the session reports it.
+  const std::uint64_t coalesced = Info("slow").viewer_frames_coalesced();
   ctx.TryCancel();
   while (reader->Read(&frame)) {
   }
   reader->Finish();
-  std::printf("slow viewer (ack window 2): worst lag %.3f s, largest sim-time step between frames %.3f s\n",
-              worst_lag_s, largest_step_s);
+  std::printf("slow viewer (ack window 2): worst lag %.3f s, largest sim-time step between frames %.3f s, "
+              "%llu snapshots coalesced\n",
+              worst_lag_s, largest_step_s, static_cast<unsigned long long>(coalesced));
+  EXPECT_GE(coalesced, 100u);  // >= 60 Hz x 2.4 s - 27 sent, less timing slack
   EXPECT_GT(largest_step_s, 2.0 / 60.0);  // snapshots were skipped, not queued
   EXPECT_LT(worst_lag_s, 0.35);           // at most ~2 frames of this viewer's 100 ms behind
 }
@@ -424,6 +429,20 @@ TEST_F(ServerAppTest, SubscribeWithoutRequestOrWithBadWindowIsRejected) {
     hapsim::v1::Frame frame;
     EXPECT_FALSE(stream->Read(&frame));
     EXPECT_EQ(stream->Finish().error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  }
+  // A rate whose frame interval would overflow in ns, NaN, negative.
+  for (const double rate : {1e-12, 0.0099, std::nan(""), -1.0}) {
+    grpc::ClientContext ctx;
+    auto stream = viewers_->Subscribe(&ctx);
+    hapsim::v1::ViewerMessage request;
+    request.mutable_subscribe()->set_session_id("bad");
+    request.mutable_subscribe()->set_max_rate_hz(rate);
+    stream->Write(request);
+    hapsim::v1::Frame frame;
+    EXPECT_FALSE(stream->Read(&frame)) << rate;
+    const grpc::Status status = stream->Finish();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << rate;
+    EXPECT_NE(status.error_message().find("max_rate_hz"), std::string::npos);
   }
   EXPECT_TRUE(Create("still-fine").ok());
 }

@@ -122,10 +122,10 @@ TEST(SessionTick, ASecondDeviceCannotDriveAnOwnedSession) {
   auto session = MakeSession("tissue_block", &models);
   std::int64_t now = kT0Ns;
   for (std::uint64_t seq = 0; seq < 50; ++seq) {
-    ASSERT_TRUE(session->OfferPose(PressingPose(seq, 1, now)));
+    ASSERT_EQ(session->OfferPose(PressingPose(seq, 1, now)), PoseVerdict::kAccepted);
     auto intruder = PressingPose(1000 + seq, 2, now);
     intruder.tool.tip_W_m.z() = -0.01;  // would press 1 cm deep
-    EXPECT_FALSE(session->OfferPose(intruder));
+    EXPECT_EQ(session->OfferPose(intruder), PoseVerdict::kOtherDevice);
     session->RunTick(now, now);
     now += kPeriodNs;
   }
@@ -134,6 +134,23 @@ TEST(SessionTick, ASecondDeviceCannotDriveAnOwnedSession) {
   EXPECT_EQ(models.last.device_id, 1u);
   EXPECT_EQ(models.last.echo_pose_seq, 49u);
   EXPECT_EQ(session->counters().owning_device_id.load(), 1u);
+}
+
+TEST(SessionTick, AStaleOrDuplicatePoseFromTheOwnerMovesNothingAndIsCounted) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  ASSERT_EQ(session->OfferPose(PressingPose(10, 1, now)), PoseVerdict::kAccepted);
+  session->RunTick(now, now);
+  now += kPeriodNs;
+  auto late = PressingPose(9, 1, now);  // overtaken by seq 10: must not pull the tool back
+  late.tool.tip_W_m.z() = -0.01;
+  EXPECT_EQ(session->OfferPose(late), PoseVerdict::kStale);
+  EXPECT_EQ(session->OfferPose(PressingPose(10, 1, now)), PoseVerdict::kStale);  // duplicate
+  session->RunTick(now, now);
+  EXPECT_EQ(models.last.echo_pose_seq, 10u);
+  EXPECT_EQ(session->counters().poses_stale.load(), 2u);
+  EXPECT_EQ(session->counters().poses_received.load(), 1u);
 }
 
 TEST(SessionTick, NoForceModelOnceThePoseIsOlderThanTheTimeout) {

@@ -88,6 +88,13 @@ Flags::Result Flags::Parse(int argc, char** argv, std::string* error) {
   return Result::kOk;
 }
 
+std::string FirstFlagOutOfRange(std::initializer_list<FlagRange> ranges) {
+  for (const auto& r : ranges) {
+    if (!r.ok) return std::string(r.flag) + " must be within " + r.range + " (see --help)";
+  }
+  return "";
+}
+
 std::string Flags::Help() const {
   std::ostringstream out;
   out << "usage: " << program_ << " [flags]\n\n" << summary_ << "\n\nflags:\n";

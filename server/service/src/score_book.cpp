@@ -19,8 +19,18 @@ void ScoreBook::Submit(const std::string& session_id, const std::string& expert,
     }
   }
   if (expert.size() > 128) throw ServiceError(ErrorCode::kInvalidArgument, "expert name longer than 128 characters");
+  const std::string name = expert.empty() ? "anonymous" : expert;
   std::lock_guard lock(mutex_);
-  sheets_[session_id][expert.empty() ? "anonymous" : expert] = indicators;
+  const auto session = sheets_.find(session_id);
+  if (session == sheets_.end() && sheets_.size() >= kMaxScoredSessions) {
+    throw ServiceError(ErrorCode::kResourceExhausted,
+                       "the score book holds " + std::to_string(kMaxScoredSessions) + " sessions already");
+  }
+  if (session != sheets_.end() && !session->second.count(name) && session->second.size() >= kMaxExpertsPerSession) {
+    throw ServiceError(ErrorCode::kResourceExhausted, "session '" + session_id.substr(0, 80) + "' has sheets from " +
+                                                          std::to_string(kMaxExpertsPerSession) + " experts already");
+  }
+  sheets_[session_id][name] = indicators;
 }
 
 void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* out) const {

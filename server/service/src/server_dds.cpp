@@ -152,11 +152,21 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
         }
         continue;
       }
-      if (!session.OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now})) {
+      const PoseVerdict verdict = session.OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now});
+      if (verdict == PoseVerdict::kOtherDevice) {
         counters_.poses_other_device.fetch_add(1);
         if (WarningDue(now)) {
           spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id,
                        session.id(), session.counters().owning_device_id.load());
+        }
+        continue;
+      }
+      if (verdict == PoseVerdict::kStale) {
+        counters_.poses_stale.fetch_add(1);
+        if (WarningDue(now)) {
+          spdlog::warn("pose seq {} from device {} for session '{}' dropped as stale (duplicate, reordered, or a "
+                       "second bridge with the same device id)",
+                       sample.seq, sample.device_id, session.id());
         }
         continue;
       }

@@ -53,14 +53,21 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
   PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
 }
 
-bool Session::OfferPose(const PoseSample& pose) {
-  if (!ownership_.Accept(pose.device_id, pose.received_ns)) {
-    counters_.poses_from_other_devices.fetch_add(1, std::memory_order_relaxed);
-    return false;
+PoseVerdict Session::OfferPose(const PoseSample& pose) {
+  const PoseVerdict verdict = ownership_.Accept(pose.device_id, pose.seq, pose.received_ns);
+  switch (verdict) {
+    case PoseVerdict::kOtherDevice:
+      counters_.poses_from_other_devices.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case PoseVerdict::kStale:
+      counters_.poses_stale.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case PoseVerdict::kAccepted:
+      counters_.poses_received.fetch_add(1, std::memory_order_relaxed);
+      pose_inbox_.Publish(pose);
+      break;
   }
-  counters_.poses_received.fetch_add(1, std::memory_order_relaxed);
-  pose_inbox_.Publish(pose);
-  return true;
+  return verdict;
 }
 
 std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {

@@ -1,5 +1,6 @@
 #include "hapsim/service/session_registry.h"
 
+#include <new>
 #include <stdexcept>
 
 #include <spdlog/spdlog.h>
@@ -52,6 +53,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
   }
   // 2. Build with no lock held: other sessions keep ticking and routing poses.
   std::shared_ptr<Session> session;
+  const std::string scene_name = scene.empty() ? "tissue_block" : scene;
   try {
     SessionConfig config;
     config.id = id;
@@ -68,6 +70,9 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
+  } catch (const std::bad_alloc&) {  // a mesh within the limits, but this machine is out of memory
+    ReleaseReservation(id);
+    throw ServiceError(ErrorCode::kResourceExhausted, "not enough memory to build scene '" + scene_name.substr(0, 80) + "'");
   } catch (...) {  // e.g. the DDS endpoints could not be created: not the caller's fault
     ReleaseReservation(id);
     throw;

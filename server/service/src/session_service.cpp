@@ -50,6 +50,8 @@ void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
   info->set_late_ticks(c.late_ticks.load());
   info->set_device_clocked_ticks(c.device_clocked_ticks.load());
   info->set_poses_from_other_devices(c.poses_from_other_devices.load());
+  info->set_poses_stale(c.poses_stale.load());
+  info->set_viewer_frames_coalesced(c.viewer_frames_coalesced.load());
   info->set_poses_wrong_session(c.poses_wrong_session.load());
   info->set_owning_device_id(c.owning_device_id.load());
   info->set_device_streaming(c.device_streaming.load());

@@ -74,7 +74,11 @@ void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
       history->Absorb(*latest);
       session->MarkTopologyTaken(history->End());
     }
-    for (const auto& link : *links) link->Offer(latest, *history, now_ns);  // outside the lock: may run a reaction inline
+    for (const auto& link : *links) {  // outside the lock: may run a reaction inline
+      if (link->Offer(latest, *history, now_ns) == ViewerLink::OfferResult::kCoalesced) {
+        session->counters().viewer_frames_coalesced.fetch_add(1, std::memory_order_relaxed);
+      }
+    }
   }
   // Sessions closed since their stream joined (Add after the close): end
   // those streams now and forget the session.

@@ -16,15 +16,20 @@ void ViewerLink::Attach(Stream* stream) {
   stream_ = stream;
 }
 
-void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
+ViewerLink::OfferResult ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
                        std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
-  if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return;
+  if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return OfferResult::kNotNeeded;
   const bool window_full = ack_window_ > 0 && encoder_.next_seq - acked_frames_ >= ack_window_;
-  if (write_in_flight_ || window_full || now_ns - last_send_ns_ < min_interval_ns_) {
-    ++skipped_;
-    return;
+  if (write_in_flight_ || window_full) {
+    const bool superseded = held_snapshot_id_ != 0 && held_snapshot_id_ != snapshot->id;
+    held_snapshot_id_ = snapshot->id;
+    if (!superseded) return OfferResult::kBusy;
+    ++coalesced_;
+    return OfferResult::kCoalesced;
   }
+  held_snapshot_id_ = 0;
+  if (now_ns - last_send_ns_ < min_interval_ns_) return OfferResult::kRateLimited;
   EncodeFrame(*snapshot, history, &encoder_, &frame_);
   last_snapshot_id_ = snapshot->id;
   last_send_ns_ = now_ns;
@@ -32,6 +37,7 @@ void ViewerLink::Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, con
   ++frames_sent_;
   bytes_sent_ += frame_.ByteSizeLong();
   stream_->StartFrameWrite(&frame_);
+  return OfferResult::kSent;
 }
 
 void ViewerLink::OnWriteDone(bool ok) {
@@ -77,9 +83,9 @@ std::uint64_t ViewerLink::bytes_sent() const {
   std::lock_guard lock(mutex_);
   return bytes_sent_;
 }
-std::uint64_t ViewerLink::snapshots_skipped() const {
+std::uint64_t ViewerLink::snapshots_coalesced() const {
   std::lock_guard lock(mutex_);
-  return skipped_;
+  return coalesced_;
 }
 
 }  // namespace hapsim::service

@@ -54,8 +54,9 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
     if (link_) {
       link_->Detach();
       hub_->Remove(*session_, link_.get());
-      spdlog::info("viewer '{}' left session '{}' after {} frames, {} bytes", link_->name(), session_->id(),
-                   link_->frames_sent(), link_->bytes_sent());
+      spdlog::info("viewer '{}' left session '{}' after {} frames, {} bytes, {} snapshots coalesced (slow viewer)",
+                   link_->name(), session_->id(), link_->frames_sent(), link_->bytes_sent(),
+                   link_->snapshots_coalesced());
     }
     delete this;
   }
@@ -74,7 +75,11 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
     }
     const auto& req = incoming_.subscribe();
     const double rate = req.max_rate_hz();
-    if (!std::isfinite(rate) || rate < 0.0) return {grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be >= 0"};
+    // A positive rate below 0.01 Hz (one frame per 100 s) would overflow the
+    // frame interval in nanoseconds; nobody watches a session that slowly.
+    if (!std::isfinite(rate) || rate < 0.0 || (rate > 0.0 && rate < 0.01)) {
+      return {grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be 0 (the session's frame rate) or >= 0.01"};
+    }
     if (req.ack_window() > kMaxAckWindow) {
       return {grpc::StatusCode::INVALID_ARGUMENT, "ack_window must be at most " + std::to_string(kMaxAckWindow)};
     }

@@ -47,8 +47,8 @@ struct ChannelTick {
 
 struct ChannelCounters {
   std::uint64_t ticks = 0;             // completed Actuate calls
-  std::uint64_t models_taken = 0;      // new models found in the inbox (older ones are overwritten unseen)
-  std::uint64_t echo_regressions = 0;  // a model echoing an older pose than the previous one
+  std::uint64_t models_taken = 0;      // new models found in the inbox and applied (older ones are overwritten unseen)
+  std::uint64_t echo_regressions = 0;  // models echoing an older pose than the one held: discarded (reordered)
   std::uint64_t first_echo_seq = 0, last_echo_seq = 0;  // valid when models_taken > 0
   double peak_force_N = 0.0;            // commanded
   double peak_force_pressing_N = 0.0;   // script phases press/hold
@@ -84,6 +84,7 @@ class ServoChannel {
   HapticDevice* device_;
   double period_s_;
   ForceSafety safety_;
+  std::int64_t warn_age_ns_;  // a held model younger than this is fresh: older arrivals are discarded
   hapsim_dds_StylusPose pose_{};
   std::uint64_t next_seq_ = 0;
   std::int64_t sensed_ns_ = 0;

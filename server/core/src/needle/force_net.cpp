@@ -66,7 +66,9 @@ struct NetSolver {
     for (int it = 0; it < max_steps && residual > tol_N; ++it) {
       state.v_m_per_s.setZero();  // quasi-static: start every step at rest
       const StepReport r = StepMsm(model, state, 1e3, be, workspace);
-      if (!r.ok) throw std::runtime_error("force net: MSM static solve blew up");
+      // The net is built from the scene's parameters: a solve that fails is
+      // a parameter set the model cannot take (the client's INVALID_ARGUMENT).
+      if (!r.ok) throw std::invalid_argument("force net: the static solve diverged for these net parameters");
       ++*steps;
       residual = Residual();
     }

@@ -4,6 +4,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -33,5 +34,23 @@ class Flags {
   std::string program_, summary_;
   std::vector<Flag> flags_;
 };
+
+// One flag's range check: ok is the check's result, range is what --help
+// users read ("(0, 1000]").
+struct FlagRange {
+  bool ok;
+  const char* flag;
+  const char* range;
+};
+// The first failed check as "--flag must be within RANGE (see --help)", or ""
+// if all hold. Every executable exits 2 with it, so a bad value is named at
+// start, never surfacing later as someone else's error.
+std::string FirstFlagOutOfRange(std::initializer_list<FlagRange> ranges);
+
+// Bounds for durations given as flags [s]: long enough for any real run,
+// short enough that converting to nanoseconds or to tick counts cannot
+// overflow (1e7 s is ~116 days; 1e7 s x 1e9 ns/s fits int64 a thousand times).
+inline constexpr double kMaxFlagSeconds = 1e7;
+inline constexpr const char* kMaxFlagSecondsRange = "[0, 1e7]";
 
 }  // namespace hapsim::common

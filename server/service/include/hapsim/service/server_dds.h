@@ -32,6 +32,7 @@ struct ServerDdsCounters {
   std::atomic<std::uint64_t> poses_rejected{0};       // malformed (FilterPose)
   std::atomic<std::uint64_t> poses_wrong_session{0};  // sample's session id differs from its partition's
   std::atomic<std::uint64_t> poses_other_device{0};   // session owned by another device
+  std::atomic<std::uint64_t> poses_stale{0};          // duplicate / reordered / a second bridge with the owner's id
   std::atomic<std::uint64_t> poses_accepted{0};
   std::atomic<std::uint64_t> force_models_written{0};
   std::atomic<std::uint64_t> write_failures{0};

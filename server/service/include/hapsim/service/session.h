@@ -65,9 +65,11 @@ struct SessionCounters {
   std::atomic<std::uint64_t> poses_received{0};
   std::atomic<std::uint64_t> poses_rejected{0};
   std::atomic<std::uint64_t> poses_from_other_devices{0};
+  std::atomic<std::uint64_t> poses_stale{0};           // from the owner, seq not above the last accepted
   std::atomic<std::uint64_t> poses_wrong_session{0};   // in this partition but naming another session
   std::atomic<std::uint64_t> force_models_sent{0};
   std::atomic<std::uint64_t> snapshots_skipped{0};     // every ring buffer was still being read
+  std::atomic<std::uint64_t> viewer_frames_coalesced{0};  // a viewer's previous frame or ack window was outstanding
   std::atomic<std::uint64_t> numerical_resets{0};
   std::atomic<std::uint32_t> owning_device_id{0};
   std::atomic<bool> device_streaming{false};
@@ -95,7 +97,7 @@ class Session : public TickTask {
 
   // DDS thread only. Offers a pose: false (and counted) if another device
   // owns the session. On true, wake the session at PoseDueNs().
-  bool OfferPose(const PoseSample& pose);
+  PoseVerdict OfferPose(const PoseSample& pose);
   // When a tick for a pose that arrived at arrival_ns may run: at once,
   // unless the previous tick started less than half a period earlier (a
   // device streaming faster than the tick rate must not speed up sim time).

@@ -31,9 +31,16 @@ class ViewerLink {
   // ack_window: frames that may be unacknowledged at once (0: no limit).
   ViewerLink(std::string name, double max_rate_hz, double quantum_m, std::uint32_t ack_window);
 
+  enum class OfferResult {
+    kSent,
+    kNotNeeded,    // no stream yet, finished, or this snapshot was already sent
+    kRateLimited,  // the viewer asked for fewer frames (max_rate_hz): by design
+    kBusy,         // previous write or the ack window outstanding: held, may still go out
+    kCoalesced,    // busy, and a newer snapshot replaced one this viewer never got (slow viewer)
+  };
   // Frame pump: send this snapshot if the stream is free and due (topology
   // edits from the session's history, which has absorbed the snapshot).
-  void Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
+  OfferResult Offer(const std::shared_ptr<const SceneSnapshot>& snapshot, const TopologyHistory& history,
              std::int64_t now_ns);
   // Session closed or server stopping: end the stream with this status.
   void Close(const grpc::Status& status);
@@ -48,7 +55,7 @@ class ViewerLink {
   const std::string& name() const { return name_; }
   std::uint64_t frames_sent() const;
   std::uint64_t bytes_sent() const;
-  std::uint64_t snapshots_skipped() const;
+  std::uint64_t snapshots_coalesced() const;  // kCoalesced offers: snapshots this viewer never got
 
  private:
   // recursive: gRPC may run a reaction inline from StartWrite/Finish.
@@ -62,9 +69,10 @@ class ViewerLink {
   std::uint64_t acked_frames_ = 0;  // frames acknowledged: seqs [0, acked_frames_)
   std::int64_t last_send_ns_ = 0;
   std::uint64_t last_snapshot_id_ = 0;
+  std::uint64_t held_snapshot_id_ = 0;  // newest snapshot refused as busy (0: none)
   StreamEncoderState encoder_;
   hapsim::v1::Frame frame_;  // the frame in flight (must outlive the write)
-  std::uint64_t frames_sent_ = 0, bytes_sent_ = 0, skipped_ = 0;
+  std::uint64_t frames_sent_ = 0, bytes_sent_ = 0, coalesced_ = 0;
 };
 
 }  // namespace hapsim::service
