@@ -44,7 +44,7 @@ kill -TERM "$server"; wait "$server" || echo "server exit code $?" >>summary.txt
 head -1 rss.csv >/dev/null
 {
   echo "soak: $sessions sessions, $viewers viewers + 1 churning, ${seconds} s"
-  echo "server RSS (KiB) first/after 60 s/last: $(sed -n 2p rss.csv | cut -d, -f2) / $(awk -F, '$1>=60 {print $2; exit}' rss.csv) / $(tail -1 rss.csv | cut -d, -f2)"
+  echo "server RSS (KiB) first/after 60 s/last: $(sed -n 2p rss.csv | cut -d, -f2) / $(awk -F, 'NR>1 && $1>=60 {print $2; exit}' rss.csv) / $(tail -1 rss.csv | cut -d, -f2)"
   grep -E "round trip|model age|late|sessions" load.out | head -8
   tail -2 server.out
 } | tee -a summary.txt

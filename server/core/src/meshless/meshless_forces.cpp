@@ -1,0 +1,66 @@
+#include "hapsim/core/meshless/meshless_forces.h"
+
+namespace hapsim::core {
+
+MeshlessState MakeMeshlessState(const MeshlessModel& model) {
+  MeshlessState s;
+  s.x_m = model.x0_m;
+  s.v_m_per_s = Eigen::Matrix3Xd::Zero(3, model.n);
+  s.f_ext_N = Eigen::Matrix3Xd::Zero(3, model.n);
+  s.forces_N = Eigen::Matrix3Xd::Zero(3, model.n);
+  s.F.assign(static_cast<std::size_t>(model.n), Eigen::Matrix3d::Identity());
+  return s;
+}
+
+void ComputeDeformationGradients(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m,
+                                 std::vector<Eigen::Matrix3d>& F) {
+  for (std::int32_t i = 0; i < model.n; ++i) {
+    Eigen::Matrix3d Fi = Eigen::Matrix3d::Zero();
+    const Eigen::Vector3d xi = x_m.col(i);
+    for (std::int32_t k = model.first[static_cast<std::size_t>(i)]; k < model.first[static_cast<std::size_t>(i) + 1];
+         ++k) {
+      Fi.noalias() += (x_m.col(model.neighbour[static_cast<std::size_t>(k)]) - xi) *
+                      model.gradient_weight.col(k).transpose();
+    }
+    F[static_cast<std::size_t>(i)] = Fi;
+  }
+}
+
+double ComputeMeshlessForces(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m,
+                             std::vector<Eigen::Matrix3d>& F, Eigen::Matrix3Xd& forces_N) {
+  ComputeDeformationGradients(model, x_m, F);
+  forces_N.setZero();
+  double energy_J = 0.0;
+  for (std::int32_t i = 0; i < model.n; ++i) {
+    const Eigen::Matrix3d& Fi = F[static_cast<std::size_t>(i)];
+    const Eigen::Matrix3d E = 0.5 * (Fi.transpose() * Fi - Eigen::Matrix3d::Identity());
+    const Eigen::Matrix3d S = model.lambda_Pa * E.trace() * Eigen::Matrix3d::Identity() + 2.0 * model.mu_Pa * E;
+    const double vi = model.volume_m3[i];
+    energy_J += vi * 0.5 * (E.array() * S.array()).sum();
+    const Eigen::Matrix3d vP = vi * (Fi * S);  // dU_i/dF_i
+    // U_i depends on x_j through F_i = sum_j (x_j - x_i) d_ij^T:
+    // dU_i/dx_j = vP d_ij, dU_i/dx_i = -vP sum_j d_ij = vP gradient_self_i.
+    for (std::int32_t k = model.first[static_cast<std::size_t>(i)]; k < model.first[static_cast<std::size_t>(i) + 1];
+         ++k) {
+      forces_N.col(model.neighbour[static_cast<std::size_t>(k)]).noalias() -= vP * model.gradient_weight.col(k);
+    }
+    forces_N.col(i).noalias() -= vP * model.gradient_self.col(i);
+  }
+  return energy_J;
+}
+
+void StepMeshless(const MeshlessModel& model, MeshlessState& s, double h_s) {
+  s.strain_energy_J = ComputeMeshlessForces(model, s.x_m, s.F, s.forces_N);
+  for (std::int32_t i = 0; i < model.n; ++i) {
+    if (model.fixed[static_cast<std::size_t>(i)]) {
+      s.v_m_per_s.col(i).setZero();
+      continue;
+    }
+    s.v_m_per_s.col(i) += h_s * ((s.forces_N.col(i) + s.f_ext_N.col(i)) * model.inv_mass_per_kg[i] -
+                                 model.damping_per_s * s.v_m_per_s.col(i));
+    s.x_m.col(i) += h_s * s.v_m_per_s.col(i);
+  }
+  s.time_s += h_s;
+}
+
+}  // namespace hapsim::core
