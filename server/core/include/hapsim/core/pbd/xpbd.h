@@ -1,0 +1,78 @@
+// Extended position-based dynamics (XPBD; Macklin, Müller, Chentanez 2016)
+// for the vascular paper's constraints (§2.2; MISSION.md §3). Def -> Build ->
+// State -> Step, no allocation in a step.
+//
+// Departure from the paper, and why: the paper projects its constraints with
+// plain PBD, Δp_i = -s w_i ∇_i C with s = C / Σ w_j |∇_j C|², whose effective
+// stiffness depends on the iteration count and the time step (more
+// iterations or smaller steps make the same material stiffer). XPBD gives
+// each constraint a compliance α (the inverse of its stiffness, [m/N] for a
+// distance) and keeps a Lagrange multiplier λ per constraint in the state:
+//   Δλ = (-C - α̃ λ) / (Σ w_j |∇_j C|² + α̃),  α̃ = α / h²,  Δp_i = w_i ∇_i C Δλ,
+// which converges to the implicit-Euler solution of the elastic energy
+// ½ C² / α — a stiffness fixed by α alone. α = 0 is the paper's rigid
+// constraint (plain PBD's projection), so both are one code path;
+// `plain_pbd_stiffness` reproduces the paper's k-scaled projection for the
+// baseline comparison.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace hapsim::core {
+
+// Stretching constraint between two nodes (paper §2.2.1): C = |p_i - p_j| - d.
+struct DistanceConstraint {
+  std::int32_t i = 0, j = 0;
+  double rest_m = 0.0;
+  double compliance_m_per_N = 0.0;  // α = 1/k; 0: inextensible
+};
+
+struct XpbdDef {
+  Eigen::Matrix3Xd x0_m;                    // rest positions (3 x n)
+  std::vector<double> mass_kg;              // (n)
+  std::vector<std::uint8_t> fixed;          // (n) 1: held; empty: none
+  std::vector<DistanceConstraint> distance;
+  Eigen::Vector3d gravity_W_m_per_s2 = Eigen::Vector3d::Zero();
+  int iterations = 10;                      // Gauss-Seidel sweeps per step
+  double damping_per_s = 0.0;               // velocity decay v *= max(0, 1 - c h) per step
+  // Plain PBD instead of XPBD (the paper's baseline): λ is not kept, and each
+  // projection is scaled by this stiffness k in (0, 1] as in Müller et al.
+  // 2007 (0: XPBD, the default).
+  double plain_pbd_stiffness = 0.0;
+};
+
+struct XpbdModel {
+  std::int32_t n = 0;
+  Eigen::Matrix3Xd x0_m;
+  Eigen::VectorXd inv_mass_per_kg;  // 0 for fixed nodes
+  std::vector<DistanceConstraint> distance;
+  Eigen::Vector3d gravity_W_m_per_s2 = Eigen::Vector3d::Zero();
+  int iterations = 10;
+  double damping_per_s = 0.0;
+  double plain_pbd_stiffness = 0.0;
+};
+
+struct XpbdState {
+  Eigen::Matrix3Xd x_m, v_m_per_s, f_ext_N;  // (3 x n)
+  Eigen::Matrix3Xd x_start_m;                // scratch: positions at the step's start
+  Eigen::VectorXd lambda;                    // (constraints) Lagrange multipliers of the last step [N s²]
+  double time_s = 0.0;
+};
+
+// Throws std::invalid_argument naming the problem (sizes, masses, a
+// constraint naming a missing node or with a negative rest length or
+// compliance, iterations outside [1, 1000], stiffness outside [0, 1]).
+XpbdModel BuildXpbdModel(const XpbdDef& def);
+XpbdState MakeXpbdState(const XpbdModel& model);
+
+// One step of h seconds: predict with velocities, gravity and f_ext, project
+// the constraints `iterations` times, derive velocities from the positions.
+void StepXpbd(const XpbdModel& model, XpbdState& state, double h_s);
+
+// Force the constraint exerts on node i at the end of the last step [N]:
+// λ / h² along the constraint (XPBD's constraint force), for checks.
+double DistanceConstraintForce_N(const XpbdState& state, std::size_t constraint, double h_s);
+
+}  // namespace hapsim::core

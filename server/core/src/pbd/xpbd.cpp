@@ -1,0 +1,108 @@
+#include "hapsim/core/pbd/xpbd.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace hapsim::core {
+
+XpbdModel BuildXpbdModel(const XpbdDef& def) {
+  const auto n = static_cast<std::size_t>(def.x0_m.cols());
+  if (n == 0) throw std::invalid_argument("xpbd: no nodes");
+  if (def.mass_kg.size() != n || (!def.fixed.empty() && def.fixed.size() != n)) {
+    throw std::invalid_argument("xpbd: mass and fixed need one entry per node");
+  }
+  if (!def.x0_m.allFinite() || !def.gravity_W_m_per_s2.allFinite()) {
+    throw std::invalid_argument("xpbd: positions and gravity must be finite");
+  }
+  if (def.iterations < 1 || def.iterations > 1000) throw std::invalid_argument("xpbd: iterations must be in [1, 1000]");
+  if (!(def.damping_per_s >= 0.0) || !std::isfinite(def.damping_per_s)) {
+    throw std::invalid_argument("xpbd: damping must be >= 0");
+  }
+  if (!(def.plain_pbd_stiffness >= 0.0 && def.plain_pbd_stiffness <= 1.0)) {
+    throw std::invalid_argument("xpbd: plain PBD stiffness must be in [0, 1]");
+  }
+  XpbdModel m;
+  m.n = static_cast<std::int32_t>(n);
+  m.x0_m = def.x0_m;
+  m.inv_mass_per_kg.resize(m.n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!(def.mass_kg[i] > 0.0) || !std::isfinite(def.mass_kg[i])) {
+      throw std::invalid_argument("xpbd: node " + std::to_string(i) + " needs a positive mass");
+    }
+    const bool held = !def.fixed.empty() && def.fixed[i];
+    m.inv_mass_per_kg[static_cast<Eigen::Index>(i)] = held ? 0.0 : 1.0 / def.mass_kg[i];
+  }
+  for (std::size_t c = 0; c < def.distance.size(); ++c) {
+    const auto& d = def.distance[c];
+    if (d.i < 0 || d.j < 0 || d.i >= m.n || d.j >= m.n || d.i == d.j) {
+      throw std::invalid_argument("xpbd: distance constraint " + std::to_string(c) + " names a missing node");
+    }
+    if (!(d.rest_m >= 0.0) || !(d.compliance_m_per_N >= 0.0) || !std::isfinite(d.rest_m) ||
+        !std::isfinite(d.compliance_m_per_N)) {
+      throw std::invalid_argument("xpbd: distance constraint " + std::to_string(c) +
+                                  " needs a finite rest length and compliance >= 0");
+    }
+  }
+  m.distance = def.distance;
+  m.gravity_W_m_per_s2 = def.gravity_W_m_per_s2;
+  m.iterations = def.iterations;
+  m.damping_per_s = def.damping_per_s;
+  m.plain_pbd_stiffness = def.plain_pbd_stiffness;
+  return m;
+}
+
+XpbdState MakeXpbdState(const XpbdModel& model) {
+  XpbdState s;
+  s.x_m = model.x0_m;
+  s.v_m_per_s = Eigen::Matrix3Xd::Zero(3, model.n);
+  s.f_ext_N = Eigen::Matrix3Xd::Zero(3, model.n);
+  s.x_start_m = model.x0_m;
+  s.lambda = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.distance.size()));
+  return s;
+}
+
+void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
+  const double decay = std::max(0.0, 1.0 - model.damping_per_s * h_s);
+  s.x_start_m = s.x_m;
+  for (std::int32_t i = 0; i < model.n; ++i) {
+    const double w = model.inv_mass_per_kg[i];
+    if (w == 0.0) continue;
+    s.v_m_per_s.col(i) = decay * s.v_m_per_s.col(i) + h_s * (model.gravity_W_m_per_s2 + w * s.f_ext_N.col(i));
+    s.x_m.col(i) += h_s * s.v_m_per_s.col(i);
+  }
+  s.lambda.setZero();
+  const bool plain = model.plain_pbd_stiffness > 0.0;
+  for (int it = 0; it < model.iterations; ++it) {
+    for (std::size_t c = 0; c < model.distance.size(); ++c) {
+      const DistanceConstraint& d = model.distance[c];
+      const double wi = model.inv_mass_per_kg[d.i], wj = model.inv_mass_per_kg[d.j];
+      if (wi + wj == 0.0) continue;
+      const Eigen::Vector3d delta = s.x_m.col(d.i) - s.x_m.col(d.j);
+      const double length = delta.norm();
+      if (length < 1e-15) continue;  // direction undefined; the next sweep moves them apart
+      const Eigen::Vector3d n = delta / length;
+      const double C = length - d.rest_m;
+      double dlambda;
+      if (plain) {
+        dlambda = -model.plain_pbd_stiffness * C / (wi + wj);
+      } else {
+        const double alpha_tilde = d.compliance_m_per_N / (h_s * h_s);
+        const auto ci = static_cast<Eigen::Index>(c);
+        dlambda = (-C - alpha_tilde * s.lambda[ci]) / (wi + wj + alpha_tilde);
+        s.lambda[ci] += dlambda;
+      }
+      s.x_m.col(d.i) += wi * dlambda * n;
+      s.x_m.col(d.j) -= wj * dlambda * n;
+    }
+  }
+  s.v_m_per_s = (s.x_m - s.x_start_m) / h_s;
+  s.time_s += h_s;
+}
+
+double DistanceConstraintForce_N(const XpbdState& state, std::size_t constraint, double h_s) {
+  return state.lambda[static_cast<Eigen::Index>(constraint)] / (h_s * h_s);
+}
+
+}  // namespace hapsim::core
