@@ -31,6 +31,8 @@ script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10
 [ "$scene" = acupuncture ] && script_args=(--script constant_speed --start-height-mm 2 --depth-mm 30 --speed-mm-s 20 --keep-running)
 # A 20 mm incision along +x, 1.5 mm deep at 10 mm/s, then the blade waits above the wound.
 [ "$scene" = cutting ] && script_args=(--script cut --start-height-mm 5 --depth-mm 1.5 --speed-mm-s 10 --entry-x-mm -10 --cut-length-mm 20 --keep-running)
+# Probe the dorsal vein's crest 2 mm deep (of its 3.3 mm outer diameter) at 5 mm/s.
+[ "$scene" = vessel ] && script_args=(--script insertion --start-height-mm 3 --depth-mm 2 --speed-mm-s 5 --hold-s 0.5)
 "$bin/hapsim-bridge" --session demo "${script_args[@]}" --seconds "$seconds" --trace "$out/trace.csv" \
     >"$out/bridge.out" 2>"$out/bridge.log" &
 bridge=$!; pids+=("$bridge")

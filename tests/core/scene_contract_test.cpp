@@ -31,6 +31,7 @@ const std::map<std::string, std::uint64_t> kGoldenHash = {
     {"acupuncture", 1035656729872970737ull},
     {"cutting", 1957159093851242908ull},
     {"tissue_block", 3148907841125443309ull},
+    {"vessel", 10435848836536468090ull},
 };
 
 ToolInput Tool(double z_m, double vz_m_per_s) {

@@ -47,7 +47,8 @@ double MaxDisplacement_m(const Eigen::Matrix3Xd& x_m, const Eigen::Matrix3Xd& x0
   double max2 = 0.0;
   for (Eigen::Index i = 0; i < count; ++i) {
     const double d2 = (x_m.col(i) - x0_m.col(i)).squaredNorm();
-    max2 = live[static_cast<std::size_t>(i)] && d2 > max2 ? d2 : max2;
+    const bool is_live = live.empty() || live[static_cast<std::size_t>(i)];
+    max2 = is_live && d2 > max2 ? d2 : max2;
   }
   return std::sqrt(max2);
 }

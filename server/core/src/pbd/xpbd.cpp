@@ -78,23 +78,19 @@ void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
     for (std::size_t c = 0; c < model.distance.size(); ++c) {
       const DistanceConstraint& d = model.distance[c];
       const double wi = model.inv_mass_per_kg[d.i], wj = model.inv_mass_per_kg[d.j];
-      if (wi + wj == 0.0) continue;
-      const Eigen::Vector3d delta = s.x_m.col(d.i) - s.x_m.col(d.j);
-      const double length = delta.norm();
-      if (length < 1e-15) continue;  // direction undefined; the next sweep moves them apart
-      const Eigen::Vector3d n = delta / length;
-      const double C = length - d.rest_m;
-      double dlambda;
-      if (plain) {
-        dlambda = -model.plain_pbd_stiffness * C / (wi + wj);
-      } else {
-        const double alpha_tilde = d.compliance_m_per_N / (h_s * h_s);
-        const auto ci = static_cast<Eigen::Index>(c);
-        dlambda = (-C - alpha_tilde * s.lambda[ci]) / (wi + wj + alpha_tilde);
-        s.lambda[ci] += dlambda;
+      if (plain) {  // the paper's PBD: C scaled by k, no multiplier kept
+        const Eigen::Vector3d delta = s.x_m.col(d.i) - s.x_m.col(d.j);
+        const double length = delta.norm();
+        if (length < 1e-15 || wi + wj == 0.0) continue;
+        const double dlambda = -model.plain_pbd_stiffness * (length - d.rest_m) / (wi + wj);
+        s.x_m.col(d.i) += wi * dlambda * delta / length;
+        s.x_m.col(d.j) -= wj * dlambda * delta / length;
+        continue;
       }
-      s.x_m.col(d.i) += wi * dlambda * n;
-      s.x_m.col(d.j) -= wj * dlambda * n;
+      Eigen::Vector3d move_j = Eigen::Vector3d::Zero();
+      ProjectDistanceXpbd(s.x_m, d.i, s.x_m.col(d.j), wi, wj, d.rest_m, d.compliance_m_per_N / (h_s * h_s),
+                          &s.lambda[static_cast<Eigen::Index>(c)], false, &move_j);
+      s.x_m.col(d.j) += move_j;
     }
   }
   s.v_m_per_s = (s.x_m - s.x_start_m) / h_s;

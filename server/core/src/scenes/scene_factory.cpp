@@ -7,6 +7,7 @@
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/scene_builders.h"
 #include "hapsim/core/scenes/tissue_block/tissue_block_params.h"
+#include "hapsim/core/scenes/vessel/vessel_params.h"
 
 namespace hapsim::core {
 
@@ -42,6 +43,9 @@ constexpr CatalogEntry kCatalog[] = {
     {"tissue_block",
      "soft tissue block: mass-spring surface grid over anchored springs, pressed by a needle",
      &MakeTissueBlockScene, [] { return TissueBlockParamTable().Describe(); }},
+    {"vessel",
+     "blood vessel wall (meshless point primitives + XPBD constraints, MLS surface) pressed by a probe tip",
+     &MakeVesselScene, [] { return VesselParamTable().Describe(); }},
 };
 
 }  // namespace

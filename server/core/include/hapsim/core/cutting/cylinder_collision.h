@@ -46,7 +46,8 @@ void CollideWithGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const Unifo
 // max_shift_m: the query box grows by that much. Lets a scene keep one grid
 // between topology changes instead of rebuilding it (O(nodes)) every tick.
 // The largest |x_i - x0_i| over the first `count` columns whose live flag is
-// set: the shift CollideWithShiftedGrid needs for a grid of x0. One pass.
+// set (empty span: every column): the shift CollideWithShiftedGrid needs for
+// a grid of x0. One pass.
 double MaxDisplacement_m(const Eigen::Matrix3Xd& x_m, const Eigen::Matrix3Xd& x0_m, std::span<const std::uint8_t> live,
                          Eigen::Index count);
 void CollideWithShiftedGrid(const Cylinder& c, const Eigen::Matrix3Xd& x_m, const UniformGrid& grid,

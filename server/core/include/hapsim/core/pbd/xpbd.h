@@ -71,6 +71,26 @@ XpbdState MakeXpbdState(const XpbdModel& model);
 // the constraints `iterations` times, derive velocities from the positions.
 void StepXpbd(const XpbdModel& model, XpbdState& state, double h_s);
 
+// One XPBD projection of the distance constraint C = |x_i - x_j| - rest with
+// inverse masses w_i, w_j and α̃ = α / h²: moves both nodes, adds Δλ to
+// *lambda. With `unilateral`, only C < 0 is enforced (λ stays >= 0: a contact
+// that pushes, never pulls). Shared by StepXpbd and the vessel scene.
+inline void ProjectDistanceXpbd(Eigen::Matrix3Xd& x_m, std::int32_t i, const Eigen::Vector3d& target_j, double wi,
+                                double wj, double rest_m, double alpha_tilde, double* lambda, bool unilateral,
+                                Eigen::Vector3d* move_j) {
+  const Eigen::Vector3d delta = x_m.col(i) - target_j;
+  const double length = delta.norm();
+  if (length < 1e-15 || wi + wj == 0.0) return;  // direction undefined / nothing can move
+  const double C = length - rest_m;
+  if (unilateral && C >= 0.0 && *lambda == 0.0) return;
+  double dlambda = (-C - alpha_tilde * *lambda) / (wi + wj + alpha_tilde);
+  if (unilateral && *lambda + dlambda < 0.0) dlambda = -*lambda;
+  *lambda += dlambda;
+  const Eigen::Vector3d n = delta / length;
+  x_m.col(i) += wi * dlambda * n;
+  if (move_j) *move_j = -wj * dlambda * n;
+}
+
 // Force the constraint exerts on node i at the end of the last step [N]:
 // λ / h² along the constraint (XPBD's constraint force), for checks.
 double DistanceConstraintForce_N(const XpbdState& state, std::size_t constraint, double h_s);

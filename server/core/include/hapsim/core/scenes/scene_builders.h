@@ -12,5 +12,6 @@ namespace hapsim::core {
 std::unique_ptr<Scene> MakeAcupunctureScene(const std::map<std::string, double>& params);
 std::unique_ptr<Scene> MakeCuttingScene(const std::map<std::string, double>& params);
 std::unique_ptr<Scene> MakeTissueBlockScene(const std::map<std::string, double>& params);
+std::unique_ptr<Scene> MakeVesselScene(const std::map<std::string, double>& params);
 
 }  // namespace hapsim::core

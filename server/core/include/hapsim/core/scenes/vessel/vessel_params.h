@@ -1,0 +1,64 @@
+// Parameters of the `vessel` scene (SceneSpec::params, SI, units in the
+// names): VesselParamTable() declares each with its unit, range and
+// description; defaults are VesselParams{}.
+//
+// Geometry per shape (a dimension left at 0 takes the shape's default).
+// Typical adult dimensions, rounded; sizes vary widely between people and
+// sites, so these are representative, not patient data:
+//   straight   hand dorsal vein  lumen radius 1.25 mm (2.5 mm diameter), wall 0.4 mm,
+//                                length 30 mm, node spacing 0.5 mm
+//   bent       aortic arch       lumen radius 12.5 mm (25 mm), wall 2 mm, a 180° arch of
+//                                centreline radius 30 mm in a 134 mm length, spacing 2 mm
+//   twice_bent retinal arteriole lumen radius 60 µm (120 µm), wall 20 µm, two opposite
+//                                60° bends of radius 0.5 mm in 3 mm, spacing 25 µm
+#pragma once
+#include <map>
+#include <string>
+
+#include "hapsim/core/scenes/param_table.h"
+#include "hapsim/core/scenes/vessel/vessel_geometry.h"
+
+namespace hapsim::core {
+
+struct VesselLimits {
+  // Meshless nodes a 1 kHz tick can afford (docs/scene-limits.md).
+  static constexpr double kMaxNodes = 6000;
+};
+
+struct VesselParams {
+  int shape = 0;                      // 0 straight (dorsal vein), 1 bent (aortic arch), 2 twice bent (retinal)
+  double length_m = 0.0;              // 0: the shape's default
+  double lumen_radius_m = 0.0;
+  double wall_thickness_m = 0.0;
+  double node_spacing_m = 0.0;
+  int radial_layers = 2;
+  double youngs_modulus_Pa = 1e5;     // E of the wall
+  double poisson_ratio = 0.45;        // nearly incompressible soft tissue
+  double density_kg_per_m3 = 1050.0;
+  // Node masses are density x volume x this (0: automatic, the smallest
+  // scale at which the explicit meshless step is stable with a margin of 2;
+  // ~1000 for the vein at 2 substeps). The meshless forces are explicit:
+  // real wall masses would need ~20 sub-steps per millisecond. Statics
+  // (force against displacement) do not depend on it; the wall's dynamics
+  // are slower by its square root.
+  double mass_scale = 0.0;
+  double support_radius_factor = 1.6;  // h = factor x node spacing (~14 neighbours on a 2-layer wall)
+  int substeps = 2;                    // physics steps per tick
+  int xpbd_iterations = 1;             // constraint sweeps per step (XPBD: statics do not depend on it)
+  // Stretching constraints (paper §2.2.1) between lattice neighbours, with
+  // stiffness fraction x E x spacing (XPBD compliance = its inverse).
+  double stretch_fraction = 0.2;
+  double damping_per_s = 60.0;         // mass-proportional velocity damping
+  double probe_radius_m = 1e-3;        // catheter / probe tip as a sphere
+  double contact_stiffness_N_per_m = 2000.0;  // XPBD compliance of the tip-node contact = its inverse
+  double render_stiffness_max_N_per_m = 1000.0;
+  double max_kinetic_energy_J = 1.0;   // a step above this is a blow-up: counted, the scene resets
+};
+
+const ParamTable<VesselParams>& VesselParamTable();
+// The table, then the shape defaults and the node-count limit.
+VesselParams ParseVesselParams(const std::map<std::string, double>& params);
+// The generator's definition for these parameters (shape defaults applied).
+VesselGeometryDef VesselGeometryFor(const VesselParams& params);
+
+}  // namespace hapsim::core
