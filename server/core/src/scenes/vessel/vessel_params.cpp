@@ -89,11 +89,11 @@ VesselGeometryDef VesselGeometryFor(const VesselParams& p) {
       d.length_m = 0.03, d.lumen_radius_m = 1.25e-3, d.wall_thickness_m = 4e-4, d.node_spacing_m = 5e-4;
       break;
     case VesselShape::kBent:  // aortic arch
-      d.length_m = 0.134, d.lumen_radius_m = 12.5e-3, d.wall_thickness_m = 2e-3, d.node_spacing_m = 2e-3;
+      d.length_m = 0.134, d.lumen_radius_m = 12.5e-3, d.wall_thickness_m = 2e-3, d.node_spacing_m = 3.2e-3;
       d.bend_radius_m = 0.03, d.bend_angle_rad = kPi;
       break;
     case VesselShape::kTwiceBent:  // retinal arteriole
-      d.length_m = 3e-3, d.lumen_radius_m = 60e-6, d.wall_thickness_m = 20e-6, d.node_spacing_m = 25e-6;
+      d.length_m = 3e-3, d.lumen_radius_m = 60e-6, d.wall_thickness_m = 20e-6, d.node_spacing_m = 35e-6;
       d.bend_radius_m = 0.5e-3, d.bend_angle_rad = kPi / 3;
       break;
   }

@@ -8,9 +8,9 @@
 //   straight   hand dorsal vein  lumen radius 1.25 mm (2.5 mm diameter), wall 0.4 mm,
 //                                length 30 mm, node spacing 0.5 mm
 //   bent       aortic arch       lumen radius 12.5 mm (25 mm), wall 2 mm, a 180° arch of
-//                                centreline radius 30 mm in a 134 mm length, spacing 2 mm
+//                                centreline radius 30 mm in a 134 mm length, spacing 3.2 mm
 //   twice_bent retinal arteriole lumen radius 60 µm (120 µm), wall 20 µm, two opposite
-//                                60° bends of radius 0.5 mm in 3 mm, spacing 25 µm
+//                                60° bends of radius 0.5 mm in 3 mm, spacing 35 µm
 #pragma once
 #include <map>
 #include <string>
@@ -22,7 +22,8 @@ namespace hapsim::core {
 
 struct VesselLimits {
   // Meshless nodes a 1 kHz tick can afford (docs/scene-limits.md).
-  static constexpr double kMaxNodes = 6000;
+  // ~0.8 ms per tick at this size: docs/scene-limits.md#vessel.
+  static constexpr double kMaxNodes = 2400;
 };
 
 struct VesselParams {
