@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/allocation_counter.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/vessel/vessel_scene.h"
 
@@ -99,6 +100,35 @@ TEST(VesselScene, ABlowUpIsCountedAndTheSceneResetsItself) {
   EXPECT_GT(scene.Status().numerical_resets, 0u);
   EXPECT_TRUE(scene.Nodes_m().allFinite());
 }
+
+}  // namespace
+}  // namespace hapsim::core
+
+namespace hapsim::core {
+namespace {
+
+// The paper's two baselines on the same nodes: each pushes a pressing probe
+// back, and none allocates in a tick.
+class VesselBaselines : public ::testing::TestWithParam<int> {};
+
+TEST_P(VesselBaselines, APressPushesBackAndTicksAllocateNothing) {
+  VesselParams params;
+  params.model = GetParam();
+  VesselScene scene(params);
+  scene.Step(ToolInput{}, kTick_s);
+  std::uint64_t allocations = 0;
+  {
+    test::ScopedAllocationCount count;
+    for (int k = 0; k <= 400; ++k) scene.Step(TipAt(3e-4, 0.0, params.probe_radius_m + 1e-3 - 5e-6 * k), kTick_s);
+    allocations = count.Count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(scene.ToolForce_W_N().z(), 0.0);
+  EXPECT_EQ(scene.Status().numerical_resets, 0u);
+  std::printf("model %d: 1 mm past first touch, force %.4f N\n", GetParam(), scene.ToolForce_W_N().z());
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, VesselBaselines, ::testing::Values(1, 2));
 
 }  // namespace
 }  // namespace hapsim::core

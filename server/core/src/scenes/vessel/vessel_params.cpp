@@ -13,7 +13,11 @@ constexpr double kPi = 3.14159265358979323846;
 ParamTable<VesselParams> MakeTable() {
   using P = VesselParams;
   ParamTable<P> t("vessel");
-  t.Add({.name = "shape", .unit = "code", .min = 0, .max = 2, .integer = true,
+  t.Add({.name = "model", .unit = "code", .min = 0, .max = 2, .integer = true,
+         .description = "the wall's model (the paper's, or a baseline on the same nodes)",
+         .choices = {"meshless_xpbd", "mass_spring", "plain_pbd"}},
+        &P::model)
+      .Add({.name = "shape", .unit = "code", .min = 0, .max = 2, .integer = true,
          .description = "vessel along its centreline",
          .choices = {"straight (hand dorsal vein)", "bent (aortic arch)", "twice_bent (retinal arteriole)"}},
         &P::shape)
@@ -54,6 +58,9 @@ ParamTable<VesselParams> MakeTable() {
       .Add({.name = "stretch_fraction", .unit = "1", .min = 0, .max = 10,
             .description = "stretching-constraint stiffness as a fraction of E x spacing (0: none)"},
            &P::stretch_fraction)
+      .Add({.name = "pbd_stiffness", .unit = "1", .min = 0, .max = 1, .min_open = true,
+            .description = "plain-PBD baseline: each projection moves this fraction of the way (paper's k)"},
+           &P::pbd_stiffness)
       .Add({.name = "damping_per_s", .unit = "1/s", .min = 0, .max = 1e4,
             .description = "mass-proportional damping of the wall"},
            &P::damping_per_s)

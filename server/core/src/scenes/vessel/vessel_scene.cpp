@@ -47,6 +47,20 @@ double MaxMeshlessOmega_rad_per_s(const MeshlessModel& m) {
   return std::sqrt(omega2);
 }
 
+// The same bound for springs (Gershgorin: |K_ii| + sum |K_ij| <= 2 sum k).
+double MaxSpringOmega_rad_per_s(const MeshlessModel& m, const std::vector<DistanceConstraint>& springs) {
+  std::vector<double> k_sum(static_cast<std::size_t>(m.n), 0.0);
+  for (const DistanceConstraint& s : springs) {
+    k_sum[static_cast<std::size_t>(s.i)] += 1.0 / s.compliance_m_per_N;
+    k_sum[static_cast<std::size_t>(s.j)] += 1.0 / s.compliance_m_per_N;
+  }
+  double omega2 = 0.0;
+  for (std::int32_t i = 0; i < m.n; ++i) {
+    if (!m.fixed[static_cast<std::size_t>(i)]) omega2 = std::max(omega2, 2.0 * k_sum[static_cast<std::size_t>(i)] * m.inv_mass_per_kg[i]);
+  }
+  return std::sqrt(omega2);
+}
+
 }  // namespace
 
 VesselScene::VesselScene(const VesselParams& params)
@@ -64,9 +78,17 @@ VesselScene::VesselScene(const VesselParams& params)
   m.damping_per_s = params_.damping_per_s;
   model_ = BuildMeshlessModel(m);
 
+  kind_ = static_cast<VesselModel>(params_.model);
+  BuildLattice(spacing_m);
+
   // Mass scaling: the critical step grows with the square root of the mass.
+  // Plain PBD has no explicit forces, but its contact force is the
+  // multiplier that moves the nodes (inertia over h^2): it takes the
+  // meshless model's masses so the three force curves compare.
   const double h_s = 1e-3 / params_.substeps;  // the session's 1 kHz tick
-  const double real_critical_s = 2.0 / MaxMeshlessOmega_rad_per_s(model_);
+  const double omega = kind_ == VesselModel::kMassSpring ? MaxSpringOmega_rad_per_s(model_, springs_)
+                                                         : MaxMeshlessOmega_rad_per_s(model_);
+  const double real_critical_s = 2.0 / omega;
   mass_scale_ = params_.mass_scale > 0.0 ? params_.mass_scale
                                          : std::max(1.0, std::pow(2.0 * h_s / real_critical_s, 2));
   model_.mass_kg *= mass_scale_;
@@ -74,28 +96,12 @@ VesselScene::VesselScene(const VesselParams& params)
   const double critical_s = real_critical_s * std::sqrt(mass_scale_);
   if (h_s > 0.9 * critical_s) {
     std::ostringstream msg;
-    msg << "vessel: a physics step of " << h_s * 1e3 << " ms (1 ms / 'substeps') is unstable for the meshless forces "
+    msg << "vessel: a physics step of " << h_s * 1e3 << " ms (1 ms / 'substeps') is unstable for the elastic forces "
         << "of this wall: the estimated critical step is " << critical_s * 1e3
         << " ms (raise 'substeps' or 'mass_scale', or lower 'youngs_modulus_Pa')";
     throw std::invalid_argument(msg.str());
   }
 
-  // Stretching constraints along the lattice: axial, around, across.
-  const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
-  auto node = [&](int k, int l, int a) { return static_cast<std::int32_t>((k * L + l) * R + (a % R)); };
-  const double k_stretch = params_.stretch_fraction * params_.youngs_modulus_Pa * spacing_m;
-  if (k_stretch > 0.0) {
-    auto add = [&](std::int32_t i, std::int32_t j) {
-      stretch_.push_back({i, j, (geometry_.nodes_m.col(i) - geometry_.nodes_m.col(j)).norm(), 1.0 / k_stretch});
-    };
-    for (int k = 0; k < S; ++k)
-      for (int l = 0; l < L; ++l)
-        for (int a = 0; a < R; ++a) {
-          if (k + 1 < S) add(node(k, l, a), node(k + 1, l, a));
-          add(node(k, l, a), node(k, l, a + 1));
-          if (l + 1 < L) add(node(k, l, a), node(k, l + 1, a));
-        }
-  }
   stretch_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(stretch_.size()));
 
   Eigen::AlignedBox3d box(geometry_.nodes_m.rowwise().minCoeff(), geometry_.nodes_m.rowwise().maxCoeff());
@@ -126,6 +132,36 @@ VesselScene::VesselScene(const VesselParams& params)
   status_.layer_names = {"vessel_wall"};
 }
 
+void VesselScene::BuildLattice(double spacing_m) {
+  // Lattice edges (axial, around, across) and, for the baselines, the
+  // diagonals of every lattice face (shear).
+  const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
+  auto node = [&](int k, int l, int a) { return static_cast<std::int32_t>((k * L + l) * R + (a % R)); };
+  auto rest = [&](std::int32_t i, std::int32_t j) { return (geometry_.nodes_m.col(i) - geometry_.nodes_m.col(j)).norm(); };
+  const double k_stretch = params_.stretch_fraction * params_.youngs_modulus_Pa * spacing_m;
+  auto edge = [&](std::int32_t i, std::int32_t j) {
+    if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch_.push_back({i, j, rest(i, j), 1.0 / k_stretch});
+    if (kind_ != VesselModel::kMeshlessXpbd) {
+      springs_.push_back({i, j, rest(i, j), 1.0 / (params_.youngs_modulus_Pa * rest(i, j))});
+    }
+  };
+  auto diagonal = [&](std::int32_t i, std::int32_t j) {
+    if (kind_ != VesselModel::kMeshlessXpbd) {
+      springs_.push_back({i, j, rest(i, j), 1.0 / (params_.youngs_modulus_Pa * rest(i, j))});
+    }
+  };
+  for (int k = 0; k < S; ++k)
+    for (int l = 0; l < L; ++l)
+      for (int a = 0; a < R; ++a) {
+        if (k + 1 < S) edge(node(k, l, a), node(k + 1, l, a));
+        edge(node(k, l, a), node(k, l, a + 1));
+        if (l + 1 < L) edge(node(k, l, a), node(k, l + 1, a));
+        if (k + 1 < S) diagonal(node(k, l, a), node(k + 1, l, a + 1)), diagonal(node(k, l, a + 1), node(k + 1, l, a));
+        if (l + 1 < L) diagonal(node(k, l, a), node(k, l + 1, a + 1)), diagonal(node(k, l, a + 1), node(k, l + 1, a));
+        if (k + 1 < S && l + 1 < L) diagonal(node(k, l, a), node(k + 1, l + 1, a)), diagonal(node(k, l + 1, a), node(k + 1, l, a));
+      }
+}
+
 bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
   // Contact candidates: nodes whose rest position is within the probe radius
   // plus the largest displacement of any node (so none currently inside is missed).
@@ -138,8 +174,26 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
   }
   for (const std::uint32_t i : candidates_) contact_lambda_[i] = 0.0;
 
-  // 1. Meshless forces, explicit prediction.
-  strain_energy_J_ = ComputeMeshlessForces(model_, x_m_, F_, elastic_N_);
+  // 1. Elastic forces (meshless, or the mass-spring baseline's springs; plain
+  // PBD has none), explicit prediction.
+  if (kind_ == VesselModel::kMeshlessXpbd) {
+    strain_energy_J_ = ComputeMeshlessForces(model_, x_m_, F_, elastic_N_);
+  } else {
+    elastic_N_.setZero();
+    strain_energy_J_ = 0.0;
+    if (kind_ == VesselModel::kMassSpring) {
+      for (const DistanceConstraint& s : springs_) {
+        const Eigen::Vector3d d = x_m_.col(s.j) - x_m_.col(s.i);
+        const double length = d.norm();
+        if (length < 1e-15) continue;
+        const double stretch = length - s.rest_m;
+        const Eigen::Vector3d f = (stretch / s.compliance_m_per_N / length) * d;
+        elastic_N_.col(s.i) += f;
+        elastic_N_.col(s.j) -= f;
+        strain_energy_J_ += 0.5 * stretch * stretch / s.compliance_m_per_N;
+      }
+    }
+  }
   x_start_m_ = x_m_;
   const double decay = std::max(0.0, 1.0 - params_.damping_per_s * h_s);
   for (std::int32_t i = 0; i < model_.n; ++i) {
@@ -159,6 +213,17 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
                           d.rest_m, d.compliance_m_per_N * inv_h2, &stretch_lambda_[static_cast<Eigen::Index>(c)],
                           false, &move_j);
       x_m_.col(d.j) += move_j;
+    }
+    if (kind_ == VesselModel::kPlainPbd) {  // the paper's projection, scaled by k, no multiplier
+      for (const DistanceConstraint& s : springs_) {
+        const double wi = model_.inv_mass_per_kg[s.i], wj = model_.inv_mass_per_kg[s.j];
+        const Eigen::Vector3d d = x_m_.col(s.i) - x_m_.col(s.j);
+        const double length = d.norm();
+        if (length < 1e-15 || wi + wj == 0.0) continue;
+        const Eigen::Vector3d step = (params_.pbd_stiffness * (length - s.rest_m) / ((wi + wj) * length)) * d;
+        x_m_.col(s.i) -= wi * step;
+        x_m_.col(s.j) += wj * step;
+      }
     }
     for (const std::uint32_t i : candidates_) {
       ProjectDistanceXpbd(x_m_, static_cast<std::int32_t>(i), tool.tip_W_m, model_.inv_mass_per_kg[i], 0.0,

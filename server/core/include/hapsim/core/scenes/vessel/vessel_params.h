@@ -26,7 +26,15 @@ struct VesselLimits {
   static constexpr double kMaxNodes = 2400;
 };
 
+// The wall's model: the paper's and its two baselines on the same nodes.
+enum class VesselModel : int {
+  kMeshlessXpbd = 0,  // meshless elasticity + XPBD stretching constraints (the paper's)
+  kMassSpring = 1,    // springs on the lattice's edges and diagonals, k = E x rest length
+  kPlainPbd = 2,      // plain PBD distance constraints on the same springs, stiffness pbd_stiffness
+};
+
 struct VesselParams {
+  int model = 0;                      // VesselModel
   int shape = 0;                      // 0 straight (dorsal vein), 1 bent (aortic arch), 2 twice bent (retinal)
   double length_m = 0.0;              // 0: the shape's default
   double lumen_radius_m = 0.0;
@@ -49,6 +57,7 @@ struct VesselParams {
   // Stretching constraints (paper §2.2.1) between lattice neighbours, with
   // stiffness fraction x E x spacing (XPBD compliance = its inverse).
   double stretch_fraction = 0.2;
+  double pbd_stiffness = 0.2;          // plain-PBD baseline: projection scale k in (0, 1] per sweep
   double damping_per_s = 60.0;         // mass-proportional velocity damping
   double probe_radius_m = 1e-3;        // catheter / probe tip as a sphere
   double contact_stiffness_N_per_m = 2000.0;  // XPBD compliance of the tip-node contact = its inverse

@@ -21,10 +21,16 @@
 // wall's tangent stiffness estimated from the last ticks' force and tip
 // travel (capped by render_stiffness_max_N_per_m), not a constant.
 //
-// Departures, stated: the explicit meshless forces need small steps for real
-// wall masses, so node masses are scaled (mass_scale; statics unchanged) —
-// see vessel_params.h; the paper's per-tetrahedron energy constraint and the
-// mass-spring / plain-PBD baselines are not in this scene yet.
+// Baselines (parameter `model`), on the same nodes, contact and bed: a plain
+// mass-spring wall (springs on the lattice's edges and diagonals with
+// k = E x rest length, explicit like the meshless forces) and plain PBD
+// (the same springs as distance constraints projected with the paper's
+// stiffness scale k, no multipliers: its stiffness depends on sweeps and step).
+//
+// Departures, stated: the explicit forces need small steps for real wall
+// masses, so node masses are scaled (mass_scale; statics unchanged) — see
+// vessel_params.h; the paper's per-tetrahedron energy constraint is not in
+// this scene yet.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -71,6 +77,7 @@ class VesselScene final : public Scene {
   double MassScale() const { return mass_scale_; }  // the one in use (automatic when the parameter is 0)
 
  private:
+  void BuildLattice(double spacing_m);
   bool Advance(const ToolInput& tool, bool tool_ok, double h_s);  // false: blew up
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
@@ -79,7 +86,12 @@ class VesselScene final : public Scene {
   VesselGeometry geometry_;
   MeshlessModel model_;
   MlsSurfaceMap surface_map_;
-  std::vector<DistanceConstraint> stretch_;
+  VesselModel kind_ = VesselModel::kMeshlessXpbd;
+  std::vector<DistanceConstraint> stretch_;  // meshless_xpbd: the paper's stretching constraints (lattice edges)
+  // Baselines: springs on the lattice's edges and diagonals (compliance =
+  // 1 / k with k = E x rest length), forces for mass_spring, plain-PBD
+  // constraints for plain_pbd.
+  std::vector<DistanceConstraint> springs_;
   UniformGrid rest_grid_;  // rest positions: contact candidates
   double bed_z_m_ = 0.0;
   double mass_scale_ = 1.0;   // the vessel lies on a rigid plane at its lowest rest point
