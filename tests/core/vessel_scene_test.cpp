@@ -107,13 +107,15 @@ TEST(VesselScene, ABlowUpIsCountedAndTheSceneResetsItself) {
 namespace hapsim::core {
 namespace {
 
-// The paper's two baselines on the same nodes: each pushes a pressing probe
-// back, and none allocates in a tick.
+// The paper's two baselines on the same nodes, and the paper's model with its
+// tetrahedron energy constraints on (3): each pushes a pressing probe back,
+// and none allocates in a tick.
 class VesselBaselines : public ::testing::TestWithParam<int> {};
 
 TEST_P(VesselBaselines, APressPushesBackAndTicksAllocateNothing) {
   VesselParams params;
-  params.model = GetParam();
+  params.model = GetParam() == 3 ? 0 : GetParam();
+  if (GetParam() == 3) params.tet_fraction = 0.2;
   VesselScene scene(params);
   scene.Step(ToolInput{}, kTick_s);
   std::uint64_t allocations = 0;
@@ -128,7 +130,7 @@ TEST_P(VesselBaselines, APressPushesBackAndTicksAllocateNothing) {
   std::printf("model %d: 1 mm past first touch, force %.4f N\n", GetParam(), scene.ToolForce_W_N().z());
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, VesselBaselines, ::testing::Values(1, 2));
+INSTANTIATE_TEST_SUITE_P(Models, VesselBaselines, ::testing::Values(1, 2, 3));
 
 }  // namespace
 }  // namespace hapsim::core

@@ -97,6 +97,55 @@ void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
   s.time_s += h_s;
 }
 
+double TetSpringEnergy_J(const TetEnergyConstraint& tet, const Eigen::Matrix3Xd& x_m) {
+  double U = 0.0;
+  for (std::size_t e = 0; e < 6; ++e) {
+    const auto [a, b] = kTetEdges[e];
+    const double stretch = (x_m.col(tet.node[static_cast<std::size_t>(a)]) - x_m.col(tet.node[static_cast<std::size_t>(b)])).norm() -
+                           tet.rest_m[e];
+    U += 0.5 * tet.k_N_per_m[e] * stretch * stretch;
+  }
+  return U;
+}
+
+void ProjectTetEnergyXpbd(Eigen::Matrix3Xd& x_m, const TetEnergyConstraint& tet, const Eigen::VectorXd& inv_mass_per_kg,
+                          double h_s, double* lambda) {
+  // grad U per node, then C = sqrt(2U), grad C = grad U / C.
+  std::array<Eigen::Vector3d, 4> grad;
+  grad.fill(Eigen::Vector3d::Zero());
+  double U = 0.0;
+  for (std::size_t e = 0; e < 6; ++e) {
+    const auto [a, b] = kTetEdges[e];
+    const Eigen::Vector3d d = x_m.col(tet.node[static_cast<std::size_t>(a)]) - x_m.col(tet.node[static_cast<std::size_t>(b)]);
+    const double length = d.norm();
+    if (length < 1e-15) return;  // a collapsed edge has no direction
+    const double stretch = length - tet.rest_m[e];
+    U += 0.5 * tet.k_N_per_m[e] * stretch * stretch;
+    const Eigen::Vector3d g = tet.k_N_per_m[e] * stretch * d / length;
+    grad[static_cast<std::size_t>(a)] += g;
+    grad[static_cast<std::size_t>(b)] -= g;
+  }
+  if (U <= 1e-300) return;
+  const double C = std::sqrt(2.0 * U);
+  double denominator = 1.0 / (h_s * h_s);  // α̃ with unit compliance
+  for (std::size_t v = 0; v < 4; ++v) denominator += inv_mass_per_kg[tet.node[v]] * grad[v].squaredNorm() / (C * C);
+  const double dlambda = (-C - *lambda / (h_s * h_s)) / denominator;
+  *lambda += dlambda;
+  for (std::size_t v = 0; v < 4; ++v) x_m.col(tet.node[v]) += inv_mass_per_kg[tet.node[v]] * dlambda * grad[v] / C;
+}
+
+TetEnergyConstraint MakeTetEnergyConstraint(const Eigen::Matrix3Xd& x0_m, std::array<std::int32_t, 4> nodes,
+                                            double stiffness_N_per_m) {
+  TetEnergyConstraint t;
+  t.node = nodes;
+  for (std::size_t e = 0; e < 6; ++e) {
+    const auto [a, b] = kTetEdges[e];
+    t.rest_m[e] = (x0_m.col(nodes[static_cast<std::size_t>(a)]) - x0_m.col(nodes[static_cast<std::size_t>(b)])).norm();
+    t.k_N_per_m[e] = stiffness_N_per_m;
+  }
+  return t;
+}
+
 double DistanceConstraintForce_N(const XpbdState& state, std::size_t constraint, double h_s) {
   return state.lambda[static_cast<Eigen::Index>(constraint)] / (h_s * h_s);
 }

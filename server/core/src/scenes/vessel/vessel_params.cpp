@@ -58,6 +58,9 @@ ParamTable<VesselParams> MakeTable() {
       .Add({.name = "stretch_fraction", .unit = "1", .min = 0, .max = 10,
             .description = "stretching-constraint stiffness as a fraction of E x spacing (0: none)"},
            &P::stretch_fraction)
+      .Add({.name = "tet_fraction", .unit = "1", .min = 0, .max = 10,
+            .description = "tetrahedron energy-constraint spring stiffness as a fraction of E x spacing (0: off)"},
+           &P::tet_fraction)
       .Add({.name = "pbd_stiffness", .unit = "1", .min = 0, .max = 1, .min_open = true,
             .description = "plain-PBD baseline: each projection moves this fraction of the way (paper's k)"},
            &P::pbd_stiffness)

@@ -102,6 +102,7 @@ VesselScene::VesselScene(const VesselParams& params)
     throw std::invalid_argument(msg.str());
   }
 
+  tet_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tets_.size()));
   stretch_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(stretch_.size()));
 
   Eigen::AlignedBox3d box(geometry_.nodes_m.rowwise().minCoeff(), geometry_.nodes_m.rowwise().maxCoeff());
@@ -150,6 +151,20 @@ void VesselScene::BuildLattice(double spacing_m) {
       springs_.push_back({i, j, rest(i, j), 1.0 / (params_.youngs_modulus_Pa * rest(i, j))});
     }
   };
+  // Six tetrahedra per lattice cell around its main diagonal (Kuhn), corner
+  // c = bits (station, layer, angle).
+  const double k_tet = params_.tet_fraction * params_.youngs_modulus_Pa * spacing_m;
+  if (kind_ == VesselModel::kMeshlessXpbd && k_tet > 0.0) {
+    constexpr int kKuhn[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+    for (int k = 0; k + 1 < S; ++k)
+      for (int l = 0; l + 1 < L; ++l)
+        for (int a = 0; a < R; ++a) {
+          auto corner = [&](int bits) { return node(k + (bits & 1), l + ((bits >> 1) & 1), a + ((bits >> 2) & 1)); };
+          for (const auto& t : kKuhn) {
+            tets_.push_back(MakeTetEnergyConstraint(geometry_.nodes_m, {corner(0), corner(t[0]), corner(t[1]), corner(7)}, k_tet));
+          }
+        }
+  }
   for (int k = 0; k < S; ++k)
     for (int l = 0; l < L; ++l)
       for (int a = 0; a < R; ++a) {
@@ -203,6 +218,7 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
   }
   // 2. Constraint sweeps: stretching, then the tip's contact.
   stretch_lambda_.setZero();
+  tet_lambda_.setZero();
   const double inv_h2 = 1.0 / (h_s * h_s);
   const double contact_alpha_tilde = inv_h2 / params_.contact_stiffness_N_per_m;
   for (int it = 0; it < params_.xpbd_iterations; ++it) {
@@ -213,6 +229,9 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
                           d.rest_m, d.compliance_m_per_N * inv_h2, &stretch_lambda_[static_cast<Eigen::Index>(c)],
                           false, &move_j);
       x_m_.col(d.j) += move_j;
+    }
+    for (std::size_t t = 0; t < tets_.size(); ++t) {
+      ProjectTetEnergyXpbd(x_m_, tets_[t], model_.inv_mass_per_kg, h_s, &tet_lambda_[static_cast<Eigen::Index>(t)]);
     }
     if (kind_ == VesselModel::kPlainPbd) {  // the paper's projection, scaled by k, no multiplier
       for (const DistanceConstraint& s : springs_) {

@@ -15,6 +15,7 @@
 // `plain_pbd_stiffness` reproduces the paper's k-scaled projection for the
 // baseline comparison.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -90,6 +91,30 @@ inline void ProjectDistanceXpbd(Eigen::Matrix3Xd& x_m, std::int32_t i, const Eig
   x_m.col(i) += wi * dlambda * n;
   if (move_j) *move_j = -wj * dlambda * n;
 }
+
+// Elastic-potential-energy constraint of one virtual tetrahedron (paper
+// §2.2.2): its four nodes joined pairwise by virtual springs (the six edges),
+//   U = sum over edges ½ k_e (|p_i - p_j| - l_e)².
+// Projected the XPBD way with C = sqrt(2 U) and unit compliance [1/J], so the
+// energy XPBD converges to is exactly U and the springs' k_e set the
+// stiffness (the paper's plain-PBD projection s = C / sum w |grad C|² with
+// C = U has no such fixed point). At rest (U ~ 0) the gradient of sqrt(2U)
+// is undefined and nothing is done.
+struct TetEnergyConstraint {
+  std::array<std::int32_t, 4> node{};
+  std::array<double, 6> rest_m{};       // edges (0,1) (0,2) (0,3) (1,2) (1,3) (2,3)
+  std::array<double, 6> k_N_per_m{};
+};
+inline constexpr std::array<std::array<int, 2>, 6> kTetEdges = {{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+
+// The tetrahedron's spring energy [J] at positions x.
+double TetSpringEnergy_J(const TetEnergyConstraint& tet, const Eigen::Matrix3Xd& x_m);
+// One XPBD projection (unit compliance, α̃ = 1 / h²); *lambda accumulates.
+void ProjectTetEnergyXpbd(Eigen::Matrix3Xd& x_m, const TetEnergyConstraint& tet, const Eigen::VectorXd& inv_mass_per_kg,
+                          double h_s, double* lambda);
+// A tetrahedron with the springs of its six edges at rest in x0 (k = stiffness).
+TetEnergyConstraint MakeTetEnergyConstraint(const Eigen::Matrix3Xd& x0_m, std::array<std::int32_t, 4> nodes,
+                                            double stiffness_N_per_m);
 
 // Force the constraint exerts on node i at the end of the last step [N]:
 // λ / h² along the constraint (XPBD's constraint force), for checks.

@@ -6,7 +6,8 @@
 //     2004, explicit), integrated into predicted positions with damping;
 //  2. XPBD constraint sweeps (pbd/xpbd.h): the paper's stretching constraints
 //     between lattice neighbours (axial, around, across the wall) with
-//     compliance 1 / (stretch_fraction E spacing), and the tip's contact —
+//     compliance 1 / (stretch_fraction E spacing), optionally the paper's
+//     per-tetrahedron energy constraints (tet_fraction), and the tip's contact —
 //     each node inside the probe sphere is pushed out with compliance
 //     1 / contact_stiffness, a unilateral constraint whose multiplier gives the
 //     contact force (λ / h² per node);
@@ -92,6 +93,8 @@ class VesselScene final : public Scene {
   // 1 / k with k = E x rest length), forces for mass_spring, plain-PBD
   // constraints for plain_pbd.
   std::vector<DistanceConstraint> springs_;
+  std::vector<TetEnergyConstraint> tets_;  // meshless_xpbd with tet_fraction > 0
+  Eigen::VectorXd tet_lambda_;
   UniformGrid rest_grid_;  // rest positions: contact candidates
   double bed_z_m_ = 0.0;
   double mass_scale_ = 1.0;   // the vessel lies on a rigid plane at its lowest rest point
