@@ -85,6 +85,8 @@ int main(int argc, char** argv) {
       "over gRPC (SessionService, ViewerService, health checking).");
   flags.Add("listen", &options.listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
   flags.Add("port-file", &port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
+  flags.Add("metrics-listen", &options.metrics_listen_address,
+            "serve Prometheus metrics at http://HOST:PORT/metrics (docs/metrics.md; empty: off)");
   flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
   flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
   flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");

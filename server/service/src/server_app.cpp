@@ -31,6 +31,12 @@ ServerApp::ServerApp(const ServerOptions& o) {
     throw std::runtime_error("cannot listen on " + o.listen_address +
                              " (address in use or invalid? choose another with --listen)");
   }
+  if (!o.metrics_listen_address.empty()) {
+    metrics_ = std::make_unique<MetricsEndpoint>(o.metrics_listen_address, [this] {
+      return FormatMetrics(*registry_, dds_->counters(), pool_->stats());
+    });
+    spdlog::info("metrics at http://{}/metrics (port {})", o.metrics_listen_address, metrics_->bound_port());
+  }
   dds_->Start(registry_.get(), pool_.get());
   pump_->Start();
   spdlog::info("hapsim-server listening on {} (port {})", o.listen_address, bound_port_);
@@ -41,6 +47,7 @@ ServerApp::~ServerApp() { Shutdown(); }
 void ServerApp::Shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
+  metrics_.reset();  // no scrape reads the registry while it closes
   pump_->Stop();
   registry_->CloseAll();  // stops ticks and ends every viewer stream
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));

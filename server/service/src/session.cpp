@@ -79,6 +79,8 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   const TickInput in = AssembleInput(now_ns);
   if (tick_observer_) tick_observer_(in);
   StepScene(*scene_, in, config_.tick_period_s);
+  counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns)),
+                                   std::memory_order_relaxed);
   RecordTiming(in, due_ns, now_ns);
   if (in.tool.valid) PublishForceModel(in);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);

@@ -75,8 +75,12 @@ void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
       session->MarkTopologyTaken(history->End());
     }
     for (const auto& link : *links) {  // outside the lock: may run a reaction inline
-      if (link->Offer(latest, *history, now_ns) == ViewerLink::OfferResult::kCoalesced) {
-        session->counters().viewer_frames_coalesced.fetch_add(1, std::memory_order_relaxed);
+      const ViewerLink::OfferResult result = link->Offer(latest, *history, now_ns);
+      SessionCounters& c = session->counters();
+      if (result == ViewerLink::OfferResult::kCoalesced) c.viewer_frames_coalesced.fetch_add(1, std::memory_order_relaxed);
+      if (result == ViewerLink::OfferResult::kSent) {
+        c.viewer_frames_sent.fetch_add(1, std::memory_order_relaxed);
+        c.viewer_bytes_sent.fetch_add(link->last_frame_bytes(), std::memory_order_relaxed);
       }
     }
   }

@@ -35,7 +35,8 @@ ViewerLink::OfferResult ViewerLink::Offer(const std::shared_ptr<const SceneSnaps
   last_send_ns_ = now_ns;
   write_in_flight_ = true;
   ++frames_sent_;
-  bytes_sent_ += frame_.ByteSizeLong();
+  last_frame_bytes_ = frame_.ByteSizeLong();
+  bytes_sent_ += last_frame_bytes_;
   stream_->StartFrameWrite(&frame_);
   return OfferResult::kSent;
 }
@@ -83,6 +84,11 @@ std::uint64_t ViewerLink::bytes_sent() const {
   std::lock_guard lock(mutex_);
   return bytes_sent_;
 }
+std::uint64_t ViewerLink::last_frame_bytes() const {
+  std::lock_guard lock(mutex_);
+  return last_frame_bytes_;
+}
+
 std::uint64_t ViewerLink::snapshots_coalesced() const {
   std::lock_guard lock(mutex_);
   return coalesced_;

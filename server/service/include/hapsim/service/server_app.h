@@ -9,6 +9,7 @@
 
 #include "hapsim/dds/dds.h"
 #include "hapsim/service/frame_pump.h"
+#include "hapsim/service/metrics.h"
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/server_dds.h"
 #include "hapsim/service/session_registry.h"
@@ -27,6 +28,7 @@ struct ServerOptions {
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
   hapsim::dds::Options dds;
   PoseLimits pose_limits;
+  std::string metrics_listen_address;  // host:port for GET /metrics (Prometheus); empty: off
 };
 
 class ServerApp {
@@ -39,6 +41,7 @@ class ServerApp {
   const ServerDds& dds() const { return *dds_; }
   const TickPool& pool() const { return *pool_; }
   int bound_port() const { return bound_port_; }
+  int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
   void Shutdown();
 
@@ -52,6 +55,7 @@ class ServerApp {
   std::unique_ptr<SessionServiceImpl> session_service_;
   std::unique_ptr<ViewerServiceImpl> viewer_service_;
   std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<MetricsEndpoint> metrics_;  // after everything it reads: destroyed first
   int bound_port_ = 0;
   bool shut_down_ = false;
 };

@@ -60,6 +60,7 @@ struct PoseSample {
 struct SessionCounters {
   std::atomic<std::uint64_t> ticks{0};
   std::atomic<std::uint64_t> late_ticks{0};            // started > one period after due
+  std::atomic<std::uint64_t> tick_work_ns{0};          // wall time from tick start to the scene stepped, summed
   std::atomic<std::uint64_t> device_clocked_ticks{0};  // run because a pose arrived
   std::atomic<std::int64_t> max_lateness_ns{0};
   std::atomic<std::uint64_t> poses_received{0};
@@ -70,6 +71,8 @@ struct SessionCounters {
   std::atomic<std::uint64_t> force_models_sent{0};
   std::atomic<std::uint64_t> snapshots_skipped{0};     // every ring buffer was still being read
   std::atomic<std::uint64_t> viewer_frames_coalesced{0};  // a viewer's previous frame or ack window was outstanding
+  std::atomic<std::uint64_t> viewer_frames_sent{0};       // frames written to all its viewers
+  std::atomic<std::uint64_t> viewer_bytes_sent{0};        // their encoded size
   std::atomic<std::uint64_t> numerical_resets{0};
   std::atomic<std::uint32_t> owning_device_id{0};
   std::atomic<bool> device_streaming{false};

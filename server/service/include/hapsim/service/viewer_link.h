@@ -56,6 +56,7 @@ class ViewerLink {
   std::uint64_t frames_sent() const;
   std::uint64_t bytes_sent() const;
   std::uint64_t snapshots_coalesced() const;  // kCoalesced offers: snapshots this viewer never got
+  std::uint64_t last_frame_bytes() const;     // size of the frame the last kSent offer wrote
 
  private:
   // recursive: gRPC may run a reaction inline from StartWrite/Finish.
@@ -72,7 +73,7 @@ class ViewerLink {
   std::uint64_t held_snapshot_id_ = 0;  // newest snapshot refused as busy (0: none)
   StreamEncoderState encoder_;
   hapsim::v1::Frame frame_;  // the frame in flight (must outlive the write)
-  std::uint64_t frames_sent_ = 0, bytes_sent_ = 0, coalesced_ = 0;
+  std::uint64_t frames_sent_ = 0, bytes_sent_ = 0, coalesced_ = 0, last_frame_bytes_ = 0;
 };
 
 }  // namespace hapsim::service

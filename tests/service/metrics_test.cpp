@@ -1,0 +1,115 @@
+// GET /metrics: Prometheus text that a scraper can parse, whose numbers are
+// the server's own counters, and an endpoint that answers garbage with a
+// status and keeps serving (issue 13's metrics, first part).
+#include "hapsim/service/metrics.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include <asio/connect.hpp>
+#include <asio/ip/tcp.hpp>
+#include <asio/read.hpp>
+#include <asio/write.hpp>
+#include <gtest/gtest.h>
+
+#include "hapsim/service/server_app.h"
+
+namespace hapsim::service {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Sends `request` raw and returns the whole response (the server closes).
+std::string Http(int port, const std::string& request, bool half_close = false) {
+  asio::io_context io;
+  asio::ip::tcp::socket socket(io);
+  socket.connect({asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)});
+  asio::write(socket, asio::buffer(request));
+  if (half_close) socket.shutdown(asio::ip::tcp::socket::shutdown_send);
+  std::string response;
+  asio::error_code ec;
+  char buffer[4096];
+  for (;;) {
+    const std::size_t n = socket.read_some(asio::buffer(buffer), ec);
+    response.append(buffer, n);
+    if (ec) break;
+  }
+  return response;
+}
+
+std::string Body(const std::string& response) { return response.substr(response.find("\r\n\r\n") + 4); }
+
+class MetricsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ServerOptions o;
+    o.listen_address = "127.0.0.1:0";
+    o.metrics_listen_address = "127.0.0.1:0";
+    o.dds.domain_id = 180 + static_cast<std::uint32_t>(::getpid() % 40);
+    app_ = std::make_unique<ServerApp>(o);
+    ASSERT_GT(app_->metrics_port(), 0);
+  }
+  void TearDown() override { app_->Shutdown(); }
+  std::unique_ptr<ServerApp> app_;
+};
+
+TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
+  app_->registry().Create("m1", "tissue_block", "test", {});
+  app_->registry().Create("m2", "vessel", "test", {});
+  std::this_thread::sleep_for(300ms);  // both tick
+  const std::string response = Http(app_->metrics_port(), "GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n");
+  ASSERT_EQ(response.rfind("HTTP/1.1 200 OK\r\n", 0), 0u) << response.substr(0, 200);
+  EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4"), std::string::npos);
+
+  // Every line is a HELP, a TYPE or a sample `name{labels} value`; every
+  // sample's family was declared with HELP and TYPE first.
+  const std::regex sample(R"(^([a-z_]+)(\{[a-z_]+="[^"]*"(,[a-z_]+="[^"]*")*\})? (-?[0-9.]+(e[-+]?[0-9]+)?)$)");
+  std::map<std::string, int> declared;
+  std::map<std::string, double> values;
+  std::istringstream lines(Body(response));
+  std::string line;
+  int samples = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("# HELP ", 0) == 0 || line.rfind("# TYPE ", 0) == 0) {
+      ++declared[line.substr(7, line.find(' ', 7) - 7)];
+      continue;
+    }
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(line, m, sample)) << "not Prometheus text: " << line;
+    EXPECT_EQ(declared[m[1]], 2) << m[1] << " has no HELP/TYPE";
+    values[line.substr(0, line.rfind(' '))] = std::stod(m[4]);
+    ++samples;
+  }
+  EXPECT_GT(samples, 30);
+  EXPECT_EQ(values["hapsim_sessions"], 2.0);
+  // The numbers are the sessions' own: ticks grew between scrape and now, never past.
+  const double ticks = values["hapsim_session_ticks_total{session=\"m2\",scene=\"vessel\"}"];
+  EXPECT_GT(ticks, 100.0);  // 300 ms at 1 kHz
+  EXPECT_LE(ticks, static_cast<double>(app_->registry().Find("m2")->counters().ticks.load()));
+  // Mean tick time from the two counters, as a dashboard would compute it.
+  const double work_s = values["hapsim_session_tick_seconds_total{session=\"m1\",scene=\"tissue_block\"}"];
+  const double m1_ticks = values["hapsim_session_ticks_total{session=\"m1\",scene=\"tissue_block\"}"];
+  EXPECT_GT(work_s / m1_ticks, 0.0);
+  EXPECT_LT(work_s / m1_ticks, 1e-3);  // a tissue_block tick is tens of µs, well inside its 1 ms
+}
+
+TEST_F(MetricsTest, GarbageGetsAStatusAndTheEndpointKeepsServing) {
+  EXPECT_EQ(Http(app_->metrics_port(), "GET /other HTTP/1.1\r\n\r\n").rfind("HTTP/1.1 404", 0), 0u);
+  EXPECT_EQ(Http(app_->metrics_port(), "\x01\x02 garbage without an end", /*half_close=*/true).rfind("HTTP/1.1 400", 0),
+            0u);
+  EXPECT_EQ(Http(app_->metrics_port(), std::string(20000, 'A'), true).rfind("HTTP/1.1 400", 0), 0u);  // over 8 KiB
+  EXPECT_EQ(Http(app_->metrics_port(), "GET /metrics HTTP/1.1\r\n\r\n").rfind("HTTP/1.1 200", 0), 0u);
+}
+
+TEST(Metrics, AnUnusableAddressIsAClearError) {
+  EXPECT_THROW(MetricsEndpoint("nonsense", [] { return std::string(); }), std::runtime_error);
+  EXPECT_THROW(MetricsEndpoint("127.0.0.1:99999", [] { return std::string(); }), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace hapsim::service
