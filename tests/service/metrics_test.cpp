@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "hapsim/service/server_app.h"
+#include "hapsim/v1/session.grpc.pb.h"
 
 namespace hapsim::service {
 namespace {
@@ -96,6 +97,31 @@ TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
   const double m1_ticks = values["hapsim_session_ticks_total{session=\"m1\",scene=\"tissue_block\"}"];
   EXPECT_GT(work_s / m1_ticks, 0.0);
   EXPECT_LT(work_s / m1_ticks, 1e-3);  // a tissue_block tick is tens of µs, well inside its 1 ms
+}
+
+TEST_F(MetricsTest, GrpcCallsAreCountedByMethodAndCode) {
+  auto channel =
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(app_->bound_port()), grpc::InsecureChannelCredentials());
+  auto stub = hapsim::v1::SessionService::NewStub(channel);
+  for (int k = 0; k < 3; ++k) {  // three unknown sessions: NOT_FOUND
+    grpc::ClientContext ctx;
+    hapsim::v1::SessionRef req;
+    req.set_session_id("ghost");
+    hapsim::v1::SessionInfo info;
+    stub->GetSession(&ctx, req, &info);
+  }
+  {
+    grpc::ClientContext ctx;
+    hapsim::v1::ListSessionsRequest req;
+    hapsim::v1::ListSessionsResponse list;
+    EXPECT_TRUE(stub->ListSessions(&ctx, req, &list).ok());
+  }
+  const std::string body = Body(Http(app_->metrics_port(), "GET /metrics HTTP/1.1\r\n\r\n"));
+  EXPECT_NE(body.find("hapsim_grpc_calls_total{method=\"/hapsim.v1.SessionService/GetSession\",code=\"NOT_FOUND\"} 3"),
+            std::string::npos)
+      << body.substr(body.find("hapsim_grpc_calls_total"), 400);
+  EXPECT_NE(body.find("hapsim_grpc_calls_total{method=\"/hapsim.v1.SessionService/ListSessions\",code=\"OK\"} 1"),
+            std::string::npos);
 }
 
 TEST_F(MetricsTest, GarbageGetsAStatusAndTheEndpointKeepsServing) {

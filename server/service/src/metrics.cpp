@@ -49,7 +49,8 @@ class Writer {
 
 }  // namespace
 
-std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounters& dds, const TickPoolStats& pool) {
+std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounters& dds, const TickPoolStats& pool,
+                          const GrpcCallCounter* calls) {
   const auto sessions = registry.List();
   Writer w;
   w.Family("hapsim_sessions", "gauge", "Sessions open on this server.").Sample("", sessions.size());
@@ -64,6 +65,16 @@ std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounte
       .Sample("", dds.force_models_written.load());
   w.Family("hapsim_tick_pool_ticks_total", "counter", "Session ticks run by the tick pool.").Sample("", pool.ticks);
   w.Family("hapsim_tick_pool_wakeups_total", "counter", "Tick pool worker wake-ups.").Sample("", pool.wakeups);
+  if (calls) {
+    w.Family("hapsim_grpc_calls_total", "counter", "gRPC calls answered, by method and status code.");
+    for (const auto& [method, counts] : calls->Snapshot()) {
+      for (int code = 0; code < GrpcCallCounter::kCodes; ++code) {
+        if (counts[static_cast<std::size_t>(code)] == 0) continue;
+        w.Sample("{method=\"" + Label(method) + "\",code=\"" + GrpcCodeName(code) + "\"}",
+                 counts[static_cast<std::size_t>(code)]);
+      }
+    }
+  }
 
   // Per session: one family at a time, a sample per session.
   struct PerSession {

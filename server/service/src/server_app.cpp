@@ -23,6 +23,9 @@ ServerApp::ServerApp(const ServerOptions& o) {
   builder.RegisterService(session_service_.get());
   builder.RegisterService(viewer_service_.get());
   builder.SetMaxReceiveMessageSize(o.max_message_bytes);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(grpc_calls_.MakeInterceptorFactory());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   // Small HTTP/2 write buffer: OnWriteDone then means "nearly delivered", so a
   // slow viewer gets coalesced frames instead of a seconds-long backlog.
   builder.AddChannelArgument(GRPC_ARG_HTTP2_WRITE_BUFFER_SIZE, 16 * 1024);
@@ -33,7 +36,7 @@ ServerApp::ServerApp(const ServerOptions& o) {
   }
   if (!o.metrics_listen_address.empty()) {
     metrics_ = std::make_unique<MetricsEndpoint>(o.metrics_listen_address, [this] {
-      return FormatMetrics(*registry_, dds_->counters(), pool_->stats());
+      return FormatMetrics(*registry_, dds_->counters(), pool_->stats(), &grpc_calls_);
     });
     spdlog::info("metrics at http://{}/metrics (port {})", o.metrics_listen_address, metrics_->bound_port());
   }

@@ -52,6 +52,7 @@ class ServerApp {
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;
   ScoreBook scores_;
+  GrpcCallCounter grpc_calls_;  // outlives the gRPC server that calls into it
   std::unique_ptr<SessionServiceImpl> session_service_;
   std::unique_ptr<ViewerServiceImpl> viewer_service_;
   std::unique_ptr<grpc::Server> server_;
