@@ -23,4 +23,12 @@ cmake --build "$build" -j "$jobs" --target hapsim-core-tests hapsim-io-tests hap
 export ASAN_OPTIONS=detect_leaks=1:alloc_dealloc_mismatch=0
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 cd "$build"
-ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|service|device-bridge|client-viewer)$'
+# Left out here (they run in the release ctest): the vessel scene's long
+# scenarios and the meshless tension test's 40 000 relaxation steps. Under
+# this tree's coverage + ASan instrumentation they took 36-475 s each
+# (2026-11-24 CI run: Meshless.UniaxialTension 475 s, each vessel contract
+# test ~100 s), against 0.3-2.3 s in release; the same code runs here in
+# the shorter Meshless.*, Xpbd*, VesselGeometry and VesselScene.* tests.
+slow='Meshless\.UniaxialTension|VesselScene\.APress|SceneContract\..*vessel'
+ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|service|device-bridge|client-viewer)$' \
+    -E "$slow"
