@@ -199,7 +199,13 @@ void MetricsEndpoint::Serve() {
     const std::string response = "HTTP/1.1 " + status + "\r\nContent-Type: " + type +
                                  "\r\nContent-Length: " + std::to_string(body.size()) + "\r\nConnection: close\r\n\r\n" + body;
     asio::write(socket, asio::buffer(response), ec);
-    socket.shutdown(asio::ip::tcp::socket::shutdown_both, ec);
+    // Lingering close: closing with unread request bytes (an oversized or
+    // garbage request) would send a reset that can destroy the response in
+    // the client's buffer. Stop sending, then drain what the client still
+    // sends, bounded by 64 KiB and the 2 s receive timeout.
+    socket.shutdown(asio::ip::tcp::socket::shutdown_send, ec);
+    char sink[4096];
+    for (std::size_t drained = 0; !ec && drained < 65536;) drained += socket.read_some(asio::buffer(sink), ec);
   }
 }
 
