@@ -27,8 +27,9 @@ cd "$build"
 # scenarios and the meshless tension test's 40 000 relaxation steps. Under
 # this tree's coverage + ASan instrumentation they took 36-475 s each
 # (2026-11-24 CI run: Meshless.UniaxialTension 475 s, each vessel contract
-# test ~100 s), against 0.3-2.3 s in release; the same code runs here in
+# test ~100 s, the service replay test of the vessel likewise), against
+# 0.3-2.3 s in release; the same code runs here in
 # the shorter Meshless.*, Xpbd*, VesselGeometry and VesselScene.* tests.
-slow='Meshless\.UniaxialTension|VesselScene\.APress|SceneContract\..*vessel'
+slow='Meshless\.UniaxialTension|VesselScene\.APress|SceneContract\..*vessel|EveryScene\..*vessel'
 ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|service|device-bridge|client-viewer)$' \
     -E "$slow"
