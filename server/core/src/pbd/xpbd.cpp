@@ -78,13 +78,8 @@ void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
     for (std::size_t c = 0; c < model.distance.size(); ++c) {
       const DistanceConstraint& d = model.distance[c];
       const double wi = model.inv_mass_per_kg[d.i], wj = model.inv_mass_per_kg[d.j];
-      if (plain) {  // the paper's PBD: C scaled by k, no multiplier kept
-        const Eigen::Vector3d delta = s.x_m.col(d.i) - s.x_m.col(d.j);
-        const double length = delta.norm();
-        if (length < 1e-15 || wi + wj == 0.0) continue;
-        const double dlambda = -model.plain_pbd_stiffness * (length - d.rest_m) / (wi + wj);
-        s.x_m.col(d.i) += wi * dlambda * delta / length;
-        s.x_m.col(d.j) -= wj * dlambda * delta / length;
+      if (plain) {
+        ProjectDistancePlainPbd(s.x_m, d.i, d.j, wi, wj, d.rest_m, model.plain_pbd_stiffness);
         continue;
       }
       Eigen::Vector3d move_j = Eigen::Vector3d::Zero();

@@ -140,16 +140,14 @@ void VesselScene::BuildLattice(double spacing_m) {
   auto node = [&](int k, int l, int a) { return static_cast<std::int32_t>((k * L + l) * R + (a % R)); };
   auto rest = [&](std::int32_t i, std::int32_t j) { return (geometry_.nodes_m.col(i) - geometry_.nodes_m.col(j)).norm(); };
   const double k_stretch = params_.stretch_fraction * params_.youngs_modulus_Pa * spacing_m;
-  auto edge = [&](std::int32_t i, std::int32_t j) {
-    if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch_.push_back({i, j, rest(i, j), 1.0 / k_stretch});
+  auto diagonal = [&](std::int32_t i, std::int32_t j) {  // baselines only
     if (kind_ != VesselModel::kMeshlessXpbd) {
       springs_.push_back({i, j, rest(i, j), 1.0 / (params_.youngs_modulus_Pa * rest(i, j))});
     }
   };
-  auto diagonal = [&](std::int32_t i, std::int32_t j) {
-    if (kind_ != VesselModel::kMeshlessXpbd) {
-      springs_.push_back({i, j, rest(i, j), 1.0 / (params_.youngs_modulus_Pa * rest(i, j))});
-    }
+  auto edge = [&](std::int32_t i, std::int32_t j) {  // stretching constraint, or a baseline spring
+    if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch_.push_back({i, j, rest(i, j), 1.0 / k_stretch});
+    diagonal(i, j);
   };
   // Six tetrahedra per lattice cell around its main diagonal (Kuhn), corner
   // c = bits (station, layer, angle).
@@ -235,13 +233,8 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
     }
     if (kind_ == VesselModel::kPlainPbd) {  // the paper's projection, scaled by k, no multiplier
       for (const DistanceConstraint& s : springs_) {
-        const double wi = model_.inv_mass_per_kg[s.i], wj = model_.inv_mass_per_kg[s.j];
-        const Eigen::Vector3d d = x_m_.col(s.i) - x_m_.col(s.j);
-        const double length = d.norm();
-        if (length < 1e-15 || wi + wj == 0.0) continue;
-        const Eigen::Vector3d step = (params_.pbd_stiffness * (length - s.rest_m) / ((wi + wj) * length)) * d;
-        x_m_.col(s.i) -= wi * step;
-        x_m_.col(s.j) += wj * step;
+        ProjectDistancePlainPbd(x_m_, s.i, s.j, model_.inv_mass_per_kg[s.i], model_.inv_mass_per_kg[s.j], s.rest_m,
+                                params_.pbd_stiffness);
       }
     }
     for (const std::uint32_t i : candidates_) {

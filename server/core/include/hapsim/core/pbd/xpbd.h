@@ -92,6 +92,19 @@ inline void ProjectDistanceXpbd(Eigen::Matrix3Xd& x_m, std::int32_t i, const Eig
   if (move_j) *move_j = -wj * dlambda * n;
 }
 
+// One plain-PBD projection of C = |x_i - x_j| - rest (the paper's baseline):
+// both nodes move `stiffness` of the way to the rest length, split by inverse
+// mass; no multiplier, so the result depends on sweeps and step.
+inline void ProjectDistancePlainPbd(Eigen::Matrix3Xd& x_m, std::int32_t i, std::int32_t j, double wi, double wj,
+                                    double rest_m, double stiffness) {
+  const Eigen::Vector3d d = x_m.col(i) - x_m.col(j);
+  const double length = d.norm();
+  if (length < 1e-15 || wi + wj == 0.0) return;
+  const Eigen::Vector3d step = (stiffness * (length - rest_m) / ((wi + wj) * length)) * d;
+  x_m.col(i) -= wi * step;
+  x_m.col(j) += wj * step;
+}
+
 // Elastic-potential-energy constraint of one virtual tetrahedron (paper
 // §2.2.2): its four nodes joined pairwise by virtual springs (the six edges),
 //   U = sum over edges ½ k_e (|p_i - p_j| - l_e)².
