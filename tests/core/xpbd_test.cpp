@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
+#include <algorithm>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -78,6 +80,56 @@ TEST(Xpbd, PlainPbdStiffnessChangesWithIterationsWhichIsWhyWeUseXpbd) {
   std::printf("plain PBD chain (k = 0.01): top link stretch %.4f mm with 2 iterations, %.4f mm with 20\n", few * 1e3,
               many * 1e3);
   EXPECT_GT(few / many, 2.0);
+}
+
+// A grid of gx x gy nodes with its right and down edges in natural order
+// (each edge shares a node with the one before it, like the vessel lattice).
+std::vector<DistanceConstraint> GridEdges(int gx, int gy) {
+  std::vector<DistanceConstraint> edges;
+  for (int y = 0; y < gy; ++y)
+    for (int x = 0; x < gx; ++x) {
+      if (x + 1 < gx) edges.push_back({y * gx + x, y * gx + x + 1, 1.0, 0.0});
+      if (y + 1 < gy) edges.push_back({y * gx + x, (y + 1) * gx + x, 1.0, 0.0});
+    }
+  return edges;
+}
+
+TEST(XpbdColourOrder, IsAPermutationWhoseColourRunsShareNoNode) {
+  const std::vector<DistanceConstraint> natural = GridEdges(12, 9);
+  std::vector<DistanceConstraint> ordered = natural;
+  const int colours = OrderByColour(ordered, 12 * 9);
+  // Greedy colouring needs at most (degree of i) + (degree of j) - 1 colours
+  // for an edge: 4 + 4 - 1 = 7 on a grid.
+  EXPECT_GE(colours, 2);
+  EXPECT_LE(colours, 7);
+  ASSERT_EQ(ordered.size(), natural.size());
+  auto key = [](const DistanceConstraint& d) { return std::pair{d.i, d.j}; };
+  std::vector<std::pair<int, int>> a, b;
+  for (const auto& d : natural) a.push_back(key(d));
+  for (const auto& d : ordered) b.push_back(key(d));
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  EXPECT_EQ(a, b);
+  // Split the ordered list into maximal runs whose constraints share no
+  // node; there are exactly as many runs as colours.
+  int runs = 0;
+  std::set<int> seen;
+  for (const auto& d : ordered) {
+    if (seen.count(d.i) || seen.count(d.j)) seen.clear();
+    if (seen.empty()) ++runs;
+    seen.insert(d.i), seen.insert(d.j);
+  }
+  EXPECT_EQ(runs, colours);
+  std::vector<DistanceConstraint> bad = natural;
+  bad[3].j = 12 * 9;
+  EXPECT_THROW(OrderByColour(bad, 12 * 9), std::invalid_argument);
+}
+
+TEST(XpbdColourOrder, TheChainInColourOrderSettlesToTheSameStretch) {
+  XpbdDef def = Chain(50);
+  EXPECT_EQ(OrderByColour(def.distance, kNodes), 2);  // a chain: alternate links
+  EXPECT_NE(def.distance[1].i, 1);                    // reordered: link 1-2 no longer second
+  EXPECT_LT(WorstStretchError(def, 1e-3), 1e-9);      // as in natural order: converged to round-off
 }
 
 TEST(Xpbd, BadDefinitionsAreRefused) {

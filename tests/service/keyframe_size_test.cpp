@@ -39,8 +39,8 @@ TEST(KeyframeSize, EverySceneAtItsLargestAcceptedMeshFitsTheDefaultReceiveLimit)
       {"tissue_block, grid_nodes 101", {"tissue_block", {{"grid_nodes", 101}}}},
       {"acupuncture, patch_grid_nodes 101", {"acupuncture", {{"patch_grid_nodes", 101}}}},
       {"cutting, 10 375 grid nodes", {"cutting", {{"spacing_m", 0.000485}}}},
-      // Display vertices = stations x ring x 2 <= nodes (limit 2400).
-      {"vessel, dorsal vein, 2356 nodes", {"vessel", {{"node_spacing_m", 4.9e-4}}}},
+      // Display vertices = stations x ring x 2 <= nodes (limit 5200).
+      {"vessel, dorsal vein 70 mm long, 5076 nodes", {"vessel", {{"length_m", 0.070}}}},
   };
   for (const auto& [what, spec] : largest) {
     const std::size_t bytes = KeyframeBytes(spec);

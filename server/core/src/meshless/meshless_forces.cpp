@@ -12,27 +12,36 @@ MeshlessState MakeMeshlessState(const MeshlessModel& model) {
   return s;
 }
 
+namespace {
+
+// F_i = sum_j (x_j - x_i) d_ij^T over i's rest neighbourhood.
+inline Eigen::Matrix3d GradientAt(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m, std::int32_t i) {
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  const Eigen::Vector3d xi = x_m.col(i);
+  for (std::int32_t k = model.first[static_cast<std::size_t>(i)]; k < model.first[static_cast<std::size_t>(i) + 1];
+       ++k) {
+    F.noalias() += (x_m.col(model.neighbour[static_cast<std::size_t>(k)]) - xi) * model.gradient_weight.col(k).transpose();
+  }
+  return F;
+}
+
+}  // namespace
+
 void ComputeDeformationGradients(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m,
                                  std::vector<Eigen::Matrix3d>& F) {
-  for (std::int32_t i = 0; i < model.n; ++i) {
-    Eigen::Matrix3d Fi = Eigen::Matrix3d::Zero();
-    const Eigen::Vector3d xi = x_m.col(i);
-    for (std::int32_t k = model.first[static_cast<std::size_t>(i)]; k < model.first[static_cast<std::size_t>(i) + 1];
-         ++k) {
-      Fi.noalias() += (x_m.col(model.neighbour[static_cast<std::size_t>(k)]) - xi) *
-                      model.gradient_weight.col(k).transpose();
-    }
-    F[static_cast<std::size_t>(i)] = Fi;
-  }
+  for (std::int32_t i = 0; i < model.n; ++i) F[static_cast<std::size_t>(i)] = GradientAt(model, x_m, i);
 }
 
 double ComputeMeshlessForces(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m,
                              std::vector<Eigen::Matrix3d>& F, Eigen::Matrix3Xd& forces_N) {
-  ComputeDeformationGradients(model, x_m, F);
   forces_N.setZero();
   double energy_J = 0.0;
+  // One pass: node i's gradient, stress and its forces on the neighbours
+  // while i's neighbourhood is in cache (the scatter order is i's, as in a
+  // separate gradient pass, so the sums are the same).
   for (std::int32_t i = 0; i < model.n; ++i) {
-    const Eigen::Matrix3d& Fi = F[static_cast<std::size_t>(i)];
+    const Eigen::Matrix3d Fi = GradientAt(model, x_m, i);
+    F[static_cast<std::size_t>(i)] = Fi;
     const Eigen::Matrix3d E = 0.5 * (Fi.transpose() * Fi - Eigen::Matrix3d::Identity());
     const Eigen::Matrix3d S = model.lambda_Pa * E.trace() * Eigen::Matrix3d::Identity() + 2.0 * model.mu_Pa * E;
     const double vi = model.volume_m3[i];

@@ -145,4 +145,37 @@ double DistanceConstraintForce_N(const XpbdState& state, std::size_t constraint,
   return state.lambda[static_cast<Eigen::Index>(constraint)] / (h_s * h_s);
 }
 
+int OrderByColour(std::vector<DistanceConstraint>& constraints, std::int32_t n_nodes) {
+  // Colours used at each node so far, as bits; a node of degree > 64 is not
+  // a lattice (it then shares the last colour, which only costs overlap).
+  std::vector<std::uint64_t> used(static_cast<std::size_t>(std::max(n_nodes, 0)), 0);
+  std::vector<int> colour(constraints.size(), 0);
+  int colours = 0;
+  for (const DistanceConstraint& d : constraints) {
+    if (d.i < 0 || d.j < 0 || d.i >= n_nodes || d.j >= n_nodes) {
+      throw std::invalid_argument("xpbd: a constraint names node " + std::to_string(std::max(d.i, d.j)) +
+                                  " or " + std::to_string(std::min(d.i, d.j)) + ", outside 0.." +
+                                  std::to_string(n_nodes - 1));
+    }
+  }
+  for (std::size_t c = 0; c < constraints.size(); ++c) {
+    const std::uint64_t taken = used[static_cast<std::size_t>(constraints[c].i)] |
+                                used[static_cast<std::size_t>(constraints[c].j)];
+    int k = 0;
+    while (k < 63 && (taken >> k) & 1u) ++k;
+    colour[c] = k;
+    used[static_cast<std::size_t>(constraints[c].i)] |= std::uint64_t{1} << k;
+    used[static_cast<std::size_t>(constraints[c].j)] |= std::uint64_t{1} << k;
+    colours = std::max(colours, k + 1);
+  }
+  std::vector<std::size_t> order(constraints.size());
+  for (std::size_t c = 0; c < order.size(); ++c) order[c] = c;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return colour[a] < colour[b]; });
+  std::vector<DistanceConstraint> sorted;
+  sorted.reserve(constraints.size());
+  for (const std::size_t c : order) sorted.push_back(constraints[c]);
+  constraints = std::move(sorted);
+  return colours;
+}
+
 }  // namespace hapsim::core

@@ -80,6 +80,9 @@ VesselScene::VesselScene(const VesselParams& params)
 
   kind_ = static_cast<VesselModel>(params_.model);
   BuildLattice(spacing_m);
+  // Independent constraints side by side: the sweeps overlap their work.
+  OrderByColour(stretch_, model_.n);
+  OrderByColour(springs_, model_.n);
 
   // Mass scaling: the critical step grows with the square root of the mass.
   // Plain PBD has no explicit forces, but its contact force is the

@@ -22,8 +22,8 @@ namespace hapsim::core {
 
 struct VesselLimits {
   // Meshless nodes a 1 kHz tick can afford (docs/scene-limits.md).
-  // ~0.8 ms per tick at this size: docs/scene-limits.md#vessel.
-  static constexpr double kMaxNodes = 2400;
+  // ~0.8 ms per tick at this size with the probe crushing the vein (1 substep): docs/scene-limits.md#vessel.
+  static constexpr double kMaxNodes = 5200;
 };
 
 // The wall's model: the paper's and its two baselines on the same nodes.
@@ -46,13 +46,17 @@ struct VesselParams {
   double density_kg_per_m3 = 1050.0;
   // Node masses are density x volume x this (0: automatic, the smallest
   // scale at which the explicit meshless step is stable with a margin of 2;
-  // ~1000 for the vein at 2 substeps). The meshless forces are explicit:
-  // real wall masses would need ~20 sub-steps per millisecond. Statics
+  // ~9800 for the vein at 1 substep, ~2500 at 2). The meshless forces are
+  // explicit: real wall masses would need ~100 sub-steps per millisecond. Statics
   // (force against displacement) do not depend on it; the wall's dynamics
   // are slower by its square root.
   double mass_scale = 0.0;
   double support_radius_factor = 1.6;  // h = factor x node spacing (~14 neighbours on a 2-layer wall)
-  int substeps = 2;                    // physics steps per tick
+  // Physics steps per tick. 1: a 5k-node vein ticks in ~0.5 ms (2: ~1 ms,
+  // over a 1 kHz tick's budget); settled forces agree within 1 % between
+  // 1 and 2 (docs/validation.md#vessel), the heavier scaled masses of 1 make
+  // the wall's dynamics slower.
+  int substeps = 1;
   int xpbd_iterations = 1;             // constraint sweeps per step (XPBD: statics do not depend on it)
   // Stretching constraints (paper §2.2.1) between lattice neighbours, with
   // stiffness fraction x E x spacing (XPBD compliance = its inverse).
@@ -64,7 +68,10 @@ struct VesselParams {
   // tetrahedra, more than the tick affords).
   double tet_fraction = 0.0;
   double pbd_stiffness = 0.2;          // plain-PBD baseline: projection scale k in (0, 1] per sweep
-  double damping_per_s = 60.0;         // mass-proportional velocity damping
+  // Mass-proportional velocity damping. 15/s on the 1-substep masses is the
+  // drag per velocity 60/s gave on the 2-substep ones (4x lighter); pressed
+  // at 10 mm/s the vein's force at 1 mm is then 1.4x its settled value.
+  double damping_per_s = 15.0;
   double probe_radius_m = 1e-3;        // catheter / probe tip as a sphere
   double contact_stiffness_N_per_m = 2000.0;  // XPBD compliance of the tip-node contact = its inverse
   double render_stiffness_max_N_per_m = 1000.0;

@@ -96,8 +96,8 @@ class VesselScene final : public Scene {
   std::vector<TetEnergyConstraint> tets_;  // meshless_xpbd with tet_fraction > 0
   Eigen::VectorXd tet_lambda_;
   UniformGrid rest_grid_;  // rest positions: contact candidates
-  double bed_z_m_ = 0.0;
-  double mass_scale_ = 1.0;   // the vessel lies on a rigid plane at its lowest rest point
+  double bed_z_m_ = 0.0;      // the vessel lies on a rigid plane at its lowest rest point
+  double mass_scale_ = 1.0;
 
   // State.
   Eigen::Matrix3Xd x_m_, v_m_per_s_;
