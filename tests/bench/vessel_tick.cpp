@@ -28,22 +28,30 @@ ToolInput ProbeAt(double z_m) {
   return t;
 }
 
-// The probe pressed 1 mm into the vein's crest, wobbling by 1 µm so each
+// The timed loop of both tick benchmarks: the probe approaches the crest at
+// 5 mm/s from 0.2 mm above, is pressed 1 mm in, then wobbles by 1 µm so each
 // tick has work to do (contact candidates, sweeps, the whole wall moving).
-// Third arg: physics steps per tick (1, the default; 2, the previous one).
-void BM_VesselTick_Pressed1mm(benchmark::State& state) {
-  VesselScene s(Vein(static_cast<int>(state.range(0)), static_cast<double>(state.range(1)),
-                     static_cast<int>(state.range(2))));
+void TickPressed1mm(benchmark::State& state, VesselScene& s) {
   const double crest_m = s.Nodes_m().row(2).maxCoeff();
-  const double press_m = crest_m + VesselParams{}.probe_radius_m - 1e-3;
-  for (double z = crest_m + 2e-3; z > press_m; z -= 5e-6) s.Step(ProbeAt(z), 1e-3);  // 5 mm/s approach
+  const double probe_m = s.Params().probe_radius_m;
+  const double press_m = crest_m + probe_m - 1e-3;
+  for (double z = crest_m + probe_m + 0.2e-3; z > press_m; z -= 5e-6) s.Step(ProbeAt(z), 1e-3);
   int k = 0;
   for (auto _ : state) {
     s.Step(ProbeAt(press_m - 1e-6 * (k++ % 2)), 1e-3);
     benchmark::DoNotOptimize(s.ToolForce_W_N());
   }
-  if (s.ToolForce_W_N().norm() <= 0.0) state.SkipWithError("the probe is not touching the wall");
   state.counters["nodes"] = static_cast<double>(s.Nodes_m().cols());
+  state.counters["force_N"] = s.ToolForce_W_N().norm();  // 0: the probe lost the wall
+  state.counters["resets"] = static_cast<double>(s.Status().numerical_resets);
+}
+
+// Third arg: physics steps per tick (1, the default; 2, the previous one).
+void BM_VesselTick_Pressed1mm(benchmark::State& state) {
+  VesselScene s(Vein(static_cast<int>(state.range(0)), static_cast<double>(state.range(1)),
+                     static_cast<int>(state.range(2))));
+  TickPressed1mm(state, s);
+  if (s.ToolForce_W_N().norm() <= 0.0) state.SkipWithError("the probe is not touching the wall");
 }
 BENCHMARK(BM_VesselTick_Pressed1mm)
     ->ArgsProduct({{0, 1, 2}, {30, 70}, {1}})
@@ -52,23 +60,14 @@ BENCHMARK(BM_VesselTick_Pressed1mm)
 
 // The paper's scale: a vein of ~100k nodes (0.1 mm spacing, 4 radial
 // layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the issue asks
-// >= 60 updates/s on one thread. Same press as above.
+// >= 60 updates/s on one thread. The contact at this scale comes and goes
+// under the wobble, hence force_N as a counter rather than a refusal.
 void BM_VesselTick_100kNodes(benchmark::State& state) {
   VesselParams p = Vein(static_cast<int>(state.range(0)), 28.0);
   p.node_spacing_m = 1e-4;
   p.radial_layers = 4;
   VesselScene s(p);
-  const double crest_m = s.Nodes_m().row(2).maxCoeff();
-  const double press_m = crest_m + p.probe_radius_m - 1e-3;
-  for (double z = crest_m + p.probe_radius_m + 0.2e-3; z > press_m; z -= 5e-6) s.Step(ProbeAt(z), 1e-3);  // 5 mm/s approach
-  int k = 0;
-  for (auto _ : state) {
-    s.Step(ProbeAt(press_m - 1e-6 * (k++ % 2)), 1e-3);
-    benchmark::DoNotOptimize(s.ToolForce_W_N());
-  }
-  state.counters["force_N"] = s.ToolForce_W_N().norm();  // 0: the probe lost the wall (see docs)
-  state.counters["nodes"] = static_cast<double>(s.Nodes_m().cols());
-  state.counters["resets"] = static_cast<double>(s.Status().numerical_resets);
+  TickPressed1mm(state, s);
   state.counters["updates_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_VesselTick_100kNodes)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
