@@ -8,7 +8,8 @@
 #   hapsim::common    spdlog, threads (flags, logging, clocks, mailboxes)
 #   hapsim::dds       common + Cyclone DDS (+ the generated DDS types)
 #   hapsim::proto     protobuf + gRPC (generated code)
-#   hapsim::service   core, common, dds, proto, gRPC — the server
+#   hapsim::service   core, common, dds, proto, gRPC, toml++ and OpenSSL's
+#                     crypto (class config, token hashes) — the server
 #   hapsim::bridge    core (force-model law), common, dds — no gRPC at all
 #   hapsim::viewer    common, proto, gRPC client — no physics, no DDS
 #   executables       their library; hapsim-load adds the viewer's gRPC
@@ -53,10 +54,11 @@ hapsim_layer_allows(hapsim_common spdlog::spdlog)
 hapsim_layer_allows(hapsim_dds_types CycloneDDS::ddsc)
 hapsim_layer_allows(hapsim_dds ${_dds})
 hapsim_layer_allows(hapsim_proto ${_proto})
-hapsim_layer_allows(hapsim_service hapsim_service ${_core} ${_dds} ${_proto})
+set(_service_extras tomlplusplus::tomlplusplus OpenSSL::Crypto)
+hapsim_layer_allows(hapsim_service hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim_bridge ${_bridge})
 hapsim_layer_allows(hapsim_viewer ${_viewer})
-hapsim_layer_allows(hapsim-server hapsim_service ${_core} ${_dds} ${_proto})
+hapsim_layer_allows(hapsim-server hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim-bridge ${_bridge})
 hapsim_layer_allows(hapsim-load ${_bridge} ${_viewer})
 hapsim_layer_allows(hapsim-viewer ${_viewer})

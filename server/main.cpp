@@ -75,7 +75,7 @@ void PrintHelp(const hapsim::common::Flags& flags) {
 
 int main(int argc, char** argv) {
   hapsim::service::ServerOptions options;
-  std::string log_level = "info", sessions, dds_config, port_file;
+  std::string log_level = "info", sessions, dds_config, port_file, class_config;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
   int dds_domain = 0, max_sessions = 64;
   hapsim::common::Flags flags(
@@ -88,6 +88,13 @@ int main(int argc, char** argv) {
   flags.Add("metrics-listen", &options.metrics_listen_address,
             "serve Prometheus metrics at http://HOST:PORT/metrics (docs/metrics.md; empty: off)");
   flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
+  flags.Add("class-config", &class_config,
+            "TOML file of classes, their sessions (created at start) and tokens with roles (docs/classroom.md);\n"
+            "every call then needs a token. Empty: development mode, no tokens (keep --listen on loopback)");
+  flags.Add("tls-cert", &options.tls_cert_file, "serve gRPC over TLS with this PEM certificate (chain)");
+  flags.Add("tls-key", &options.tls_key_file, "the PEM private key of --tls-cert");
+  flags.Add("tls-client-ca", &options.tls_client_ca_file,
+            "require client certificates signed by this PEM CA (with --tls-cert/--tls-key)");
   flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
   flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");
   flags.Add("max-sessions", &max_sessions, "refuse to create more sessions than this");
@@ -138,6 +145,14 @@ int main(int argc, char** argv) {
   options.quantum_m = quantum_mm * 1e-3;
   options.dds.domain_id = static_cast<std::uint32_t>(dds_domain);
   options.dds.config_file = dds_config;
+  if (!class_config.empty()) {
+    try {
+      options.classes = hapsim::service::LoadClassConfig(class_config);
+    } catch (const hapsim::service::ClassConfigError& e) {
+      std::fprintf(stderr, "hapsim-server: bad --class-config: %s\n", e.what());
+      return 2;
+    }
+  }
 
   try {
     hapsim::service::ServerApp app(options);

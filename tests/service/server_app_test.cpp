@@ -270,14 +270,15 @@ TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
   EXPECT_TRUE(Create("after").ok());
 }
 
-TEST_F(ServerAppTest, ScoresAreCheckedAndCombinedOverTheClass) {
+TEST_F(ServerAppTest, ScoresAreCheckedAndEachSessionScoredByItsOwnRaters) {
   ASSERT_TRUE(Create("ta").ok());
   ASSERT_TRUE(Create("tb").ok());
-  auto submit = [&](const std::string& id, std::vector<double> x, hapsim::v1::ScoreReport* report) {
+  auto submit = [&](const std::string& id, const std::string& expert, std::vector<double> x,
+                    hapsim::v1::ScoreReport* report) {
     grpc::ClientContext ctx;
     hapsim::v1::SubmitScoresRequest req;
     req.set_session_id(id);
-    req.set_expert("dr-x");
+    req.set_expert(expert);
     for (double v : x) req.add_indicators(v);
     return sessions_->SubmitScores(&ctx, req, report);
   };
@@ -290,23 +291,28 @@ TEST_F(ServerAppTest, ScoresAreCheckedAndCombinedOverTheClass) {
     EXPECT_EQ(report.subjective_weights_size(), 7);
     report.Clear();
   }
-  EXPECT_EQ(submit("ta", {1, 2, 3}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_EQ(submit("ta", {8, 6, 7, 9, 5, 8, 11}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_EQ(submit("ghost", {8, 6, 7, 9, 5, 8, 7}, &report).error_code(), grpc::StatusCode::NOT_FOUND);
-  ASSERT_TRUE(submit("ta", {8, 6, 7, 9, 5, 8, 7}, &report).ok());
-  ASSERT_TRUE(submit("tb", {6, 6, 9, 9, 7, 8, 5}, &report).ok());
-  // The class of two: same numbers as the hand-computed core example
-  // (ComprehensiveScore.MatchesHandComputedTwoTraineeExample).
+  EXPECT_EQ(submit("ta", "dr-x", {1, 2, 3}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(submit("ta", "dr-x", {8, 6, 7, 9, 5, 8, 11}, &report).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(submit("ta", std::string(200, 'x'), {8, 6, 7, 9, 5, 8, 7}, &report).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_EQ(submit("ta", "dr-x", std::vector<double>(100000, 5.0), &report).error_code(),
+            grpc::StatusCode::INVALID_ARGUMENT);  // 800 kB of scores: refused, not kept
+  EXPECT_EQ(submit("ghost", "dr-x", {8, 6, 7, 9, 5, 8, 7}, &report).error_code(), grpc::StatusCode::NOT_FOUND);
+  // Two raters of ta: the hand-computed core example
+  // (ComprehensiveScore.MatchesHandComputedTwoTraineeExample), mean of
+  // f = 6.758 and 6.822.
+  ASSERT_TRUE(submit("ta", "dr-x", {8, 6, 7, 9, 5, 8, 7}, &report).ok());
+  ASSERT_TRUE(submit("ta", "dr-y", {6, 6, 9, 9, 7, 8, 5}, &report).ok());
+  ASSERT_TRUE(submit("tb", "dr-x", {5, 5, 5, 5, 5, 5, 5}, &report).ok());
   grpc::ClientContext ctx;
   hapsim::v1::ScoreQuery all;
   ASSERT_TRUE(sessions_->GetScores(&ctx, all, &report).ok());
   ASSERT_EQ(report.sessions_size(), 2);
-  EXPECT_NEAR(report.sessions(0).comprehensive_score(), 6.758, 1e-9);
-  EXPECT_NEAR(report.sessions(1).comprehensive_score(), 6.822, 1e-9);
-  EXPECT_NEAR(report.class_mean_score(), 6.790, 1e-9);
+  EXPECT_NEAR(report.sessions(0).comprehensive_score(), 6.790, 1e-9);
+  EXPECT_NEAR(report.sessions(0).combined_weights(0), 0.218, 1e-12);
+  EXPECT_NEAR(report.sessions(1).comprehensive_score(), 5.0, 1e-9);
+  EXPECT_NEAR(report.class_mean_score(), 5.895, 1e-9);
   EXPECT_NEAR(report.mu(), 0.4, 1e-15);
-  ASSERT_EQ(report.combined_weights_size(), 7);
-  EXPECT_NEAR(report.combined_weights(0), 0.218, 1e-12);
 }
 
 TEST_F(ServerAppTest, PauseFreezesSimTimeAndResumeAndResetWork) {

@@ -50,7 +50,7 @@ class Writer {
 }  // namespace
 
 std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounters& dds, const TickPoolStats& pool,
-                          const GrpcCallCounter* calls) {
+                          const GrpcCallCounter* calls, const AuthCounters* auth) {
   const auto sessions = registry.List();
   Writer w;
   w.Family("hapsim_sessions", "gauge", "Sessions open on this server.").Sample("", sessions.size());
@@ -65,6 +65,12 @@ std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounte
       .Sample("", dds.force_models_written.load());
   w.Family("hapsim_tick_pool_ticks_total", "counter", "Session ticks run by the tick pool.").Sample("", pool.ticks);
   w.Family("hapsim_tick_pool_wakeups_total", "counter", "Tick pool worker wake-ups.").Sample("", pool.wakeups);
+  if (auth) {
+    w.Family("hapsim_auth_failures_total", "counter",
+             "Calls refused by the class config: no or unknown token, or a role/session the token may not touch.")
+        .Sample("{reason=\"unauthenticated\"}", auth->unauthenticated.load())
+        .Sample("{reason=\"permission_denied\"}", auth->permission_denied.load());
+  }
   if (calls) {
     w.Family("hapsim_grpc_calls_total", "counter", "gRPC calls answered, by method and status code.");
     for (const auto& [method, counts] : calls->Snapshot()) {

@@ -2,16 +2,42 @@
 
 #include <cmath>
 
+#include "hapsim/core/assessment/ahp.h"
 #include "hapsim/core/assessment/scoring.h"
 #include "hapsim/service/errors.h"
 
 namespace hapsim::service {
 
-void ScoreBook::Submit(const std::string& session_id, const std::string& expert,
+ScoringScheme SchemeForScene(const std::string& scene) {
+  if (scene == "cutting") return ScoringScheme::kCuttingResidents;
+  if (scene == "vessel") return ScoringScheme::kVesselAhp;
+  return ScoringScheme::kDelphiMsd;
+}
+
+const char* SchemeName(ScoringScheme scheme) {
+  switch (scheme) {
+    case ScoringScheme::kDelphiMsd: return "delphi_msd";
+    case ScoringScheme::kCuttingResidents: return "cutting_residents";
+    case ScoringScheme::kVesselAhp: return "vessel_ahp";
+  }
+  return "?";
+}
+
+std::size_t IndicatorCount(ScoringScheme scheme) { return scheme == ScoringScheme::kVesselAhp ? 9 : 7; }
+
+ScoreBook::ScoreBook() {
+  const auto j = core::assessment::DefaultVesselJudgements();
+  vessel_weights_ = core::assessment::AhpHierarchy(j.criteria, j.indicators).global_weights;
+}
+
+void ScoreBook::Submit(const std::string& session_id, const std::string& scene, const std::string& expert,
                        const std::vector<double>& indicators) {
-  if (indicators.size() != kIndicators) {
-    throw ServiceError(ErrorCode::kInvalidArgument, "expected exactly 7 indicator scores, got " +
-                                                        std::to_string(indicators.size()));
+  const ScoringScheme scheme = SchemeForScene(scene);
+  const std::size_t count = IndicatorCount(scheme);
+  if (indicators.size() != count) {
+    throw ServiceError(ErrorCode::kInvalidArgument, "a " + scene + " session is scored on exactly " +
+                                                        std::to_string(count) + " indicators (" + SchemeName(scheme) +
+                                                        "), got " + std::to_string(indicators.size()));
   }
   for (const double x : indicators) {
     if (!std::isfinite(x) || x < 0.0 || x > 10.0) {
@@ -21,57 +47,90 @@ void ScoreBook::Submit(const std::string& session_id, const std::string& expert,
   if (expert.size() > 128) throw ServiceError(ErrorCode::kInvalidArgument, "expert name longer than 128 characters");
   const std::string name = expert.empty() ? "anonymous" : expert;
   std::lock_guard lock(mutex_);
-  const auto session = sheets_.find(session_id);
+  auto session = sheets_.find(session_id);
   if (session == sheets_.end() && sheets_.size() >= kMaxScoredSessions) {
     throw ServiceError(ErrorCode::kResourceExhausted,
                        "the score book holds " + std::to_string(kMaxScoredSessions) + " sessions already");
   }
-  if (session != sheets_.end() && !session->second.count(name) && session->second.size() >= kMaxExpertsPerSession) {
+  if (session != sheets_.end() && session->second.scene != scene) {
+    session->second = Sheets{};  // a new scenario: a new trial, new sheets
+  }
+  if (session != sheets_.end() && !session->second.by_expert.count(name) &&
+      session->second.by_expert.size() >= kMaxExpertsPerSession) {
     throw ServiceError(ErrorCode::kResourceExhausted, "session '" + session_id.substr(0, 80) + "' has sheets from " +
                                                           std::to_string(kMaxExpertsPerSession) + " experts already");
   }
-  sheets_[session_id][name] = indicators;
+  Sheets& sheets = sheets_[session_id];
+  sheets.scene = scene;
+  sheets.by_expert[name] = indicators;
 }
 
-void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* out) const {
-  std::lock_guard lock(mutex_);
-  if (!session_id.empty() && !sheets_.count(session_id)) {
-    throw ServiceError(ErrorCode::kNotFound, "no scores for session '" + session_id.substr(0, 80) + "'");
+void ScoreBook::Describe(const std::string& id, const Sheets& sheets, hapsim::v1::SessionScore* out) const {
+  const ScoringScheme scheme = SchemeForScene(sheets.scene);
+  const auto n = static_cast<Eigen::Index>(IndicatorCount(scheme));
+  // One row per expert: the raters are the samples (acupuncture paper eq. 10-11).
+  Eigen::MatrixXd x(static_cast<Eigen::Index>(sheets.by_expert.size()), n);
+  Eigen::Index row = 0;
+  for (const auto& [expert, values] : sheets.by_expert) {
+    x.row(row++) = Eigen::Map<const Eigen::RowVectorXd>(values.data(), n);
   }
-  if (sheets_.empty()) {  // nothing scored yet: the class weights only, no sessions
-    const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
-    for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
-    out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
+  const Eigen::VectorXd mean = x.colwise().mean().transpose();
+  out->set_session_id(id);
+  out->set_experts(static_cast<std::uint32_t>(x.rows()));
+  for (Eigen::Index j = 0; j < n; ++j) out->add_mean_indicators(mean[j]);
+  Eigen::VectorXd weights;
+  if (scheme == ScoringScheme::kDelphiMsd) {
+    const auto r = core::assessment::ComprehensiveScores(x);
+    for (Eigen::Index j = 0; j < n; ++j) out->add_objective_weights(r.objective_weights[j]);
+    weights = r.combined_weights;
+  } else {
+    weights = scheme == ScoringScheme::kCuttingResidents ? core::assessment::CuttingDelphiWeights() : vessel_weights_;
+  }
+  for (Eigen::Index j = 0; j < n; ++j) out->add_combined_weights(weights[j]);
+  // mean_i sum_j w_j x_ij = sum_j w_j mean_j
+  out->set_comprehensive_score(core::assessment::WeightedScore(weights, mean));
+  out->set_scheme(SchemeName(scheme));
+}
+
+void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
+                       const std::function<bool(const std::string&)>& visible) const {
+  std::lock_guard lock(mutex_);
+  out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
+  if (!session_id.empty()) {
+    const auto found = sheets_.find(session_id);
+    if (found == sheets_.end()) {
+      throw ServiceError(ErrorCode::kNotFound, "no scores for session '" + session_id.substr(0, 80) + "'");
+    }
+    auto* s = out->add_sessions();
+    Describe(found->first, found->second, s);
+    if (SchemeForScene(found->second.scene) == ScoringScheme::kDelphiMsd) {
+      const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
+      for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
+    }
+    out->mutable_objective_weights()->CopyFrom(s->objective_weights());
+    out->mutable_combined_weights()->CopyFrom(s->combined_weights());
+    out->set_class_mean_score(s->comprehensive_score());
     return;
   }
-  // One row per scored session: the mean over its experts.
-  std::vector<std::string> ids;
-  Eigen::MatrixXd class_scores(static_cast<Eigen::Index>(sheets_.size()), static_cast<Eigen::Index>(kIndicators));
-  Eigen::Index row = 0;
-  for (const auto& [id, by_expert] : sheets_) {
-    Eigen::VectorXd mean = Eigen::VectorXd::Zero(kIndicators);
-    for (const auto& [expert, values] : by_expert) {
-      mean += Eigen::Map<const Eigen::VectorXd>(values.data(), kIndicators);
-    }
-    class_scores.row(row++) = mean / static_cast<double>(by_expert.size());
-    ids.push_back(id);
-  }
-  const auto result = core::assessment::ComprehensiveScores(class_scores);
-  for (Eigen::Index j = 0; j < result.subjective_weights.size(); ++j) {
-    out->add_subjective_weights(result.subjective_weights[j]);
-    out->add_objective_weights(result.objective_weights[j]);
-    out->add_combined_weights(result.combined_weights[j]);
-  }
-  out->set_mu(result.mu);
-  out->set_class_mean_score(result.scores.size() ? result.scores.mean() : 0.0);
-  for (std::size_t i = 0; i < ids.size(); ++i) {
-    if (!session_id.empty() && ids[i] != session_id) continue;
+  const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
+  for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
+  double total = 0.0;
+  for (const auto& [id, sheets] : sheets_) {
+    if (visible && !visible(id)) continue;
     auto* s = out->add_sessions();
-    s->set_session_id(ids[i]);
-    s->set_experts(static_cast<std::uint32_t>(sheets_.at(ids[i]).size()));
-    for (Eigen::Index j = 0; j < class_scores.cols(); ++j) s->add_mean_indicators(class_scores(static_cast<Eigen::Index>(i), j));
-    s->set_comprehensive_score(result.scores[static_cast<Eigen::Index>(i)]);
+    Describe(id, sheets, s);
+    total += s->comprehensive_score();
   }
+  out->set_class_mean_score(out->sessions_size() ? total / out->sessions_size() : 0.0);
+}
+
+std::optional<ScoreBook::Summary> ScoreBook::SummaryOf(const std::string& session_id) const {
+  std::lock_guard lock(mutex_);
+  const auto found = sheets_.find(session_id);
+  if (found == sheets_.end()) return std::nullopt;
+  hapsim::v1::SessionScore s;
+  Describe(found->first, found->second, &s);
+  return Summary{s.experts(), s.comprehensive_score()};
 }
 
 }  // namespace hapsim::service

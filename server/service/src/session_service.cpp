@@ -1,8 +1,13 @@
 #include "hapsim/service/session_service.h"
 
+#include <chrono>
 #include <cmath>
 
 #include <spdlog/spdlog.h>
+
+#include "hapsim/core/scenes/scene.h"
+#include "hapsim/dds/partition.h"
+#include "hapsim/service/class_status.h"
 
 namespace hapsim::service {
 
@@ -16,6 +21,8 @@ Status ToGrpcStatus(const ServiceError& e) {
     case ErrorCode::kAlreadyExists: return {StatusCode::ALREADY_EXISTS, e.what()};
     case ErrorCode::kResourceExhausted: return {StatusCode::RESOURCE_EXHAUSTED, e.what()};
     case ErrorCode::kFailedPrecondition: return {StatusCode::FAILED_PRECONDITION, e.what()};
+    case ErrorCode::kUnauthenticated: return {StatusCode::UNAUTHENTICATED, e.what()};
+    case ErrorCode::kPermissionDenied: return {StatusCode::PERMISSION_DENIED, e.what()};
   }
   return {StatusCode::INTERNAL, e.what()};
 }
@@ -37,7 +44,31 @@ Status Guarded(const char* rpc, F&& body) {
   }
 }
 
+const AccessPolicy& OpenPolicy() {
+  static const AccessPolicy open;
+  return open;
+}
+
 }  // namespace
+
+std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc::ServerContextBase* context) {
+  if (!policy.enabled()) return std::nullopt;
+  if (!context) return policy.Authenticate(nullptr);
+  const auto& metadata = context->client_metadata();
+  const auto found = metadata.find("authorization");
+  if (found == metadata.end()) return policy.Authenticate(nullptr);
+  const std::string value(found->second.data(), found->second.size());
+  return policy.Authenticate(&value);
+}
+
+SessionServiceImpl::SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
+                                       const AccessPolicy* policy, std::uint32_t dds_domain)
+    : registry_(registry), hub_(hub), scores_(scores), policy_(policy ? policy : &OpenPolicy()),
+      dds_domain_(dds_domain) {}
+
+std::optional<Principal> SessionServiceImpl::Caller(const grpc::ServerContext* context) const {
+  return AuthenticateCall(*policy_, context);
+}
 
 void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
   const auto& c = s.counters();
@@ -65,8 +96,10 @@ void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
   info->set_peak_tool_force_n(c.peak_tool_force_N.load());
 }
 
-Status SessionServiceImpl::ListScenes(grpc::ServerContext*, const hapsim::v1::ListScenesRequest*,
+Status SessionServiceImpl::ListScenes(grpc::ServerContext* context, const hapsim::v1::ListScenesRequest*,
                                       hapsim::v1::ListScenesResponse* out) {
+  const Status allowed = Guarded("ListScenes", [&] { policy_->Authorize(Caller(context), Action::kListScenes, ""); });
+  if (!allowed.ok()) return allowed;
   for (const auto& scene : core::SceneCatalog()) {
     auto* s = out->add_scenes();
     s->set_name(scene.name);
@@ -93,6 +126,14 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
                                          hapsim::v1::SessionInfo* out) {
   std::shared_ptr<Session> created;
   const Status status = Guarded("CreateSession", [&] {
+    const auto who = Caller(context);
+    policy_->Authorize(who, Action::kCreateClose, req->session_id());
+    std::string owner = req->owner();
+    if (const ClassDef* cls = policy_->ClassOf(req->session_id()); cls && owner.empty()) {
+      for (const auto& s : cls->sessions) {
+        if (s.id == req->session_id()) owner = s.trainee;
+      }
+    }
     if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
     std::map<std::string, double> params;
     for (const auto& [key, value] : req->params()) {
@@ -101,7 +142,7 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
       }
       params.emplace(key, value);
     }
-    created = registry_->Create(req->session_id(), req->scene(), req->owner(), std::move(params));
+    created = registry_->Create(req->session_id(), req->scene(), std::move(owner), std::move(params));
   });
   if (!status.ok()) return status;
   // The build yields the CPU to ticks, so on a saturated server it can
@@ -118,52 +159,67 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
   return Status::OK;
 }
 
-Status SessionServiceImpl::ListSessions(grpc::ServerContext*, const hapsim::v1::ListSessionsRequest*,
+Status SessionServiceImpl::ListSessions(grpc::ServerContext* context, const hapsim::v1::ListSessionsRequest*,
                                         hapsim::v1::ListSessionsResponse* out) {
-  for (const auto& s : registry_->List()) DescribeSession(*s, out->add_sessions());
-  return Status::OK;
+  return Guarded("ListSessions", [&] {
+    const auto who = Caller(context);
+    policy_->Authorize(who, Action::kListSessions, "");
+    for (const auto& s : registry_->List()) {
+      if (policy_->Allows(who, Action::kView, s->id())) DescribeSession(*s, out->add_sessions());
+    }
+  });
 }
 
-Status SessionServiceImpl::GetSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::GetSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                       hapsim::v1::SessionInfo* out) {
-  return Guarded("GetSession", [&] { DescribeSession(*registry_->FindOrThrow(req->session_id()), out); });
+  return Guarded("GetSession", [&] {
+    policy_->Authorize(Caller(context), Action::kView, req->session_id());
+    DescribeSession(*registry_->FindOrThrow(req->session_id()), out);
+  });
 }
 
-Status SessionServiceImpl::CloseSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::CloseSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                         hapsim::v1::CloseSessionResponse*) {
-  return Guarded("CloseSession", [&] { registry_->Close(req->session_id()); });
+  return Guarded("CloseSession", [&] {
+    policy_->Authorize(Caller(context), Action::kCreateClose, req->session_id());
+    registry_->Close(req->session_id());
+  });
 }
 
-Status SessionServiceImpl::PauseSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::PauseSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                         hapsim::v1::SessionInfo* out) {
   return Guarded("PauseSession", [&] {
+    policy_->Authorize(Caller(context), Action::kControl, req->session_id());
     auto s = registry_->FindOrThrow(req->session_id());
     s->RequestPause(true);
     DescribeSession(*s, out);
   });
 }
 
-Status SessionServiceImpl::ResumeSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::ResumeSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                          hapsim::v1::SessionInfo* out) {
   return Guarded("ResumeSession", [&] {
+    policy_->Authorize(Caller(context), Action::kControl, req->session_id());
     auto s = registry_->FindOrThrow(req->session_id());
     s->RequestPause(false);
     DescribeSession(*s, out);
   });
 }
 
-Status SessionServiceImpl::ResetSession(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::ResetSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                         hapsim::v1::SessionInfo* out) {
   return Guarded("ResetSession", [&] {
+    policy_->Authorize(Caller(context), Action::kControl, req->session_id());
     auto s = registry_->FindOrThrow(req->session_id());
     s->RequestReset();
     DescribeSession(*s, out);
   });
 }
 
-Status SessionServiceImpl::GetSnapshot(grpc::ServerContext*, const hapsim::v1::SessionRef* req,
+Status SessionServiceImpl::GetSnapshot(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                        hapsim::v1::MeshSnapshot* out) {
   return Guarded("GetSnapshot", [&] {
+    policy_->Authorize(Caller(context), Action::kView, req->session_id());
     auto s = registry_->FindOrThrow(req->session_id());
     const auto snap = hub_->LatestSnapshot(*s);
     if (!snap) throw ServiceError(ErrorCode::kFailedPrecondition, "session has no snapshot yet; retry shortly");
@@ -189,19 +245,154 @@ Status SessionServiceImpl::GetSnapshot(grpc::ServerContext*, const hapsim::v1::S
   });
 }
 
-Status SessionServiceImpl::SubmitScores(grpc::ServerContext*, const hapsim::v1::SubmitScoresRequest* req,
+Status SessionServiceImpl::SubmitScores(grpc::ServerContext* context, const hapsim::v1::SubmitScoresRequest* req,
                                         hapsim::v1::ScoreReport* out) {
   return Guarded("SubmitScores", [&] {
-    registry_->FindOrThrow(req->session_id());  // scores belong to a live session
-    scores_->Submit(req->session_id(), req->expert(),
+    policy_->Authorize(Caller(context), Action::kScore, req->session_id());
+    if (req->indicators_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 indicator scores");
+    const auto session = registry_->FindOrThrow(req->session_id());  // scores belong to a live session
+    scores_->Submit(req->session_id(), session->config().scene, req->expert(),
                     std::vector<double>(req->indicators().begin(), req->indicators().end()));
     scores_->Report(req->session_id(), out);
   });
 }
 
-Status SessionServiceImpl::GetScores(grpc::ServerContext*, const hapsim::v1::ScoreQuery* req,
+Status SessionServiceImpl::GetScores(grpc::ServerContext* context, const hapsim::v1::ScoreQuery* req,
                                      hapsim::v1::ScoreReport* out) {
-  return Guarded("GetScores", [&] { scores_->Report(req->session_id(), out); });
+  return Guarded("GetScores", [&] {
+    const auto who = Caller(context);
+    if (!req->session_id().empty()) policy_->Authorize(who, Action::kView, req->session_id());
+    scores_->Report(req->session_id(), out,
+                    [&](const std::string& id) { return policy_->Allows(who, Action::kView, id); });
+  });
+}
+
+Status SessionServiceImpl::JoinSession(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
+                                       hapsim::v1::JoinSessionResponse* out) {
+  return Guarded("JoinSession", [&] {
+    const auto who = Caller(context);
+    policy_->Authorize(who, Action::kJoin, req->session_id());
+    const auto s = registry_->FindOrThrow(req->session_id());
+    out->set_session_id(s->id());
+    out->set_dds_partition(dds::SessionPartition(s->id()));
+    out->set_dds_domain(dds_domain_);
+    out->set_scene(s->config().scene);
+    spdlog::info("{} joined session '{}' (DDS partition {})", who ? who->name : "a development client", s->id(),
+                 out->dds_partition());
+  });
+}
+
+const std::vector<std::string>* SessionServiceImpl::ClassSessions(const std::string& name,
+                                                                  std::vector<std::string>* storage) const {
+  if (!policy_->enabled()) {
+    if (!name.empty()) {
+      throw ServiceError(ErrorCode::kNotFound, "this server has no class config: watch the whole server with an "
+                                               "empty class name");
+    }
+    return nullptr;
+  }
+  const ClassDef* cls = policy_->FindClass(name);
+  if (!cls) throw ServiceError(ErrorCode::kNotFound, "no class '" + name.substr(0, 80) + "'");
+  for (const auto& s : cls->sessions) storage->push_back(s.id);
+  return storage;
+}
+
+Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim::v1::WatchClassRequest* req,
+                                      grpc::ServerWriter<hapsim::v1::ClassStatus>* writer) {
+  std::vector<std::string> storage;
+  const std::vector<std::string>* ids = nullptr;
+  double rate_hz = req->rate_hz();
+  const Status allowed = Guarded("WatchClass", [&] {
+    const auto who = Caller(context);
+    if (policy_->enabled()) policy_->Authorize(who, Action::kWatchClass, req->class_name());
+    ids = ClassSessions(req->class_name(), &storage);
+    if (rate_hz == 0.0) rate_hz = kDefaultWatchRateHz;
+    if (!std::isfinite(rate_hz) || rate_hz < 0.1 || rate_hz > kMaxWatchRateHz) {
+      throw ServiceError(ErrorCode::kInvalidArgument, "rate_hz must be 0 (10 Hz) or within [0.1, 50]");
+    }
+  });
+  if (!allowed.ok()) return allowed;
+  {
+    std::lock_guard lock(watch_mutex_);
+    if (stopping_) return {grpc::StatusCode::UNAVAILABLE, "the server is stopping"};
+    if (watch_streams_ >= kMaxWatchStreams) {
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              "this server already serves " + std::to_string(kMaxWatchStreams) + " class views"};
+    }
+    ++watch_streams_;
+  }
+  ClassStatusBuilder builder(registry_, hub_, scores_);
+  const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(1.0 / rate_hz));
+  auto next = std::chrono::steady_clock::now();
+  Status result = Status::OK;
+  while (true) {
+    hapsim::v1::ClassStatus status;
+    status.set_class_name(req->class_name());
+    builder.Fill(ids, &status);
+    if (!writer->Write(status)) break;  // the instructor went away
+    next += period;
+    std::unique_lock lock(watch_mutex_);
+    if (watch_wake_.wait_until(lock, next, [&] { return stopping_; })) break;
+    if (context->IsCancelled()) break;
+  }
+  std::lock_guard lock(watch_mutex_);
+  --watch_streams_;
+  return result;
+}
+
+void SessionServiceImpl::Stop() {
+  std::lock_guard lock(watch_mutex_);
+  stopping_ = true;
+  watch_wake_.notify_all();
+}
+
+Status SessionServiceImpl::PushScenario(grpc::ServerContext* context, const hapsim::v1::PushScenarioRequest* req,
+                                        hapsim::v1::PushScenarioResponse* out) {
+  return Guarded("PushScenario", [&] {
+    const auto who = Caller(context);
+    if (policy_->enabled()) policy_->Authorize(who, Action::kPushScenario, req->class_name());
+    std::vector<std::string> storage;
+    const std::vector<std::string>* ids = ClassSessions(req->class_name(), &storage);
+    std::vector<std::string> all;
+    if (!ids) {
+      for (const auto& s : registry_->List()) all.push_back(s->id());
+      ids = &all;
+    }
+    if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
+    core::SceneSpec spec;
+    spec.name = req->scene().empty() ? "tissue_block" : req->scene();
+    for (const auto& [key, value] : req->params()) {
+      if (!std::isfinite(value)) {
+        throw ServiceError(ErrorCode::kInvalidArgument, "scene parameter '" + key.substr(0, 80) + "' is not finite");
+      }
+      spec.params.emplace(key, value);
+    }
+    // Check the scenario once before touching any session: a bad one leaves
+    // the class as it was.
+    try {
+      (void)core::MakeScene(spec);
+    } catch (const std::invalid_argument& e) {
+      throw ServiceError(ErrorCode::kInvalidArgument, e.what());
+    }
+    for (const auto& id : *ids) {
+      std::string owner;
+      if (const auto existing = registry_->Find(id)) {
+        owner = existing->config().owner;
+        try {
+          registry_->Close(id);
+        } catch (const ServiceError&) {  // closed meanwhile
+        }
+      } else if (const ClassDef* cls = policy_->ClassOf(id)) {
+        for (const auto& s : cls->sessions) {
+          if (s.id == id) owner = s.trainee;
+        }
+      }
+      DescribeSession(*registry_->Create(id, spec.name, owner, spec.params), out->add_sessions());
+    }
+    spdlog::info("{} pushed scene '{}' to {} sessions of class '{}'", who ? who->name : "a development client",
+                 spec.name, ids->size(), req->class_name());
+  });
 }
 
 }  // namespace hapsim::service

@@ -5,6 +5,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "hapsim/service/session_service.h"
 #include "hapsim/service/viewer_link.h"
 
 namespace hapsim::service {
@@ -20,8 +21,16 @@ constexpr std::uint32_t kMaxAckWindow = 64;
 // for the whole stream; frames are written by the frame pump via the link.
 class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Frame>, public ViewerLink::Stream {
  public:
-  SubscribeReactor(const SessionRegistry* registry, ViewerHub* hub, double quantum_m, std::string peer)
-      : registry_(registry), hub_(hub), quantum_m_(quantum_m), peer_(std::move(peer)) {
+  // caller: who the call's token names (checked against the session once the
+  // SubscribeRequest names it); auth_error: the token was refused.
+  SubscribeReactor(const SessionRegistry* registry, ViewerHub* hub, double quantum_m, std::string peer,
+                   const AccessPolicy* policy, std::optional<Principal> caller, grpc::Status auth_error)
+      : registry_(registry), hub_(hub), quantum_m_(quantum_m), peer_(std::move(peer)), policy_(policy),
+        caller_(std::move(caller)), auth_error_(std::move(auth_error)) {
+    if (!auth_error_.ok()) {  // refused before anything is read
+      Finish(auth_error_);
+      return;
+    }
     StartRead(&incoming_);
   }
 
@@ -74,6 +83,13 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
       return {grpc::StatusCode::INVALID_ARGUMENT, "the first message must be a SubscribeRequest"};
     }
     const auto& req = incoming_.subscribe();
+    if (policy_) {
+      try {
+        policy_->Authorize(caller_, Action::kView, req.session_id());
+      } catch (const ServiceError& e) {
+        return ToGrpcStatus(e);
+      }
+    }
     const double rate = req.max_rate_hz();
     // A positive rate below 0.01 Hz (one frame per 100 s) would overflow the
     // frame interval in nanoseconds; nobody watches a session that slowly.
@@ -102,6 +118,9 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
   ViewerHub* hub_;
   double quantum_m_;
   std::string peer_;
+  const AccessPolicy* policy_;
+  std::optional<Principal> caller_;
+  grpc::Status auth_error_;
   ViewerMessage incoming_;
   std::shared_ptr<Session> session_;
   std::mutex link_mutex_;
@@ -111,7 +130,17 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
 }  // namespace
 
 grpc::ServerBidiReactor<ViewerMessage, Frame>* ViewerServiceImpl::Subscribe(grpc::CallbackServerContext* context) {
-  return new SubscribeReactor(registry_, hub_, quantum_m_, context->peer());
+  std::optional<Principal> caller;
+  grpc::Status auth_error = grpc::Status::OK;
+  if (policy_) {
+    try {
+      caller = AuthenticateCall(*policy_, context);
+    } catch (const ServiceError& e) {
+      auth_error = ToGrpcStatus(e);
+    }
+  }
+  return new SubscribeReactor(registry_, hub_, quantum_m_, context->peer(), policy_, std::move(caller),
+                              std::move(auth_error));
 }
 
 }  // namespace hapsim::service

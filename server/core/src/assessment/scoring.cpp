@@ -29,4 +29,16 @@ ComprehensiveScoreResult ComprehensiveScores(const Eigen::MatrixXd& x, double mu
   return r;
 }
 
+Eigen::VectorXd CuttingDelphiWeights() {
+  Eigen::VectorXd w(kIndicatorCount);
+  w << 0.09, 0.17, 0.24, 0.13, 0.10, 0.21, 0.06;
+  return w;
+}
+
+double WeightedScore(const Eigen::VectorXd& weights, const Eigen::VectorXd& x) {
+  if (weights.size() != x.size()) throw std::invalid_argument("one weight per indicator score is needed");
+  if (!weights.allFinite() || !x.allFinite()) throw std::invalid_argument("weights and scores must be finite");
+  return weights.dot(x);
+}
+
 }  // namespace hapsim::core::assessment

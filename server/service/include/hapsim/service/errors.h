@@ -6,7 +6,15 @@
 
 namespace hapsim::service {
 
-enum class ErrorCode { kInvalidArgument, kNotFound, kAlreadyExists, kResourceExhausted, kFailedPrecondition };
+enum class ErrorCode {
+  kInvalidArgument,
+  kNotFound,
+  kAlreadyExists,
+  kResourceExhausted,
+  kFailedPrecondition,
+  kUnauthenticated,   // no token, or one the server does not know
+  kPermissionDenied,  // a known caller whose role or class does not allow the call
+};
 
 class ServiceError : public std::runtime_error {
  public:

@@ -1,8 +1,8 @@
 // Prometheus text exposition (format 0.0.4) of the server's counters, and a
 // minimal HTTP endpoint serving it at GET /metrics (issue 13, first part;
 // prometheus-cpp is not in Debian). Every metric is documented in
-// docs/metrics.md. Not yet exported: auth failures (no auth yet), device
-// round trips (the bridges measure them, not the server).
+// docs/metrics.md. Not exported: device round trips (the bridges measure
+// them, not the server).
 #pragma once
 #include <atomic>
 #include <functional>
@@ -10,6 +10,7 @@
 #include <string>
 #include <thread>
 
+#include "hapsim/service/access_policy.h"
 #include "hapsim/service/grpc_call_counter.h"
 #include "hapsim/service/server_dds.h"
 #include "hapsim/service/session_registry.h"
@@ -18,9 +19,9 @@
 namespace hapsim::service {
 
 // The exposition text for these sessions and server counters.
-// `calls` may be null (no gRPC counts).
+// `calls` may be null (no gRPC counts), `auth` too (no auth failures).
 std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounters& dds, const TickPoolStats& pool,
-                          const GrpcCallCounter* calls = nullptr);
+                          const GrpcCallCounter* calls = nullptr, const AuthCounters* auth = nullptr);
 
 // Serves GET /metrics on a TCP address (host:port, port 0: any) from one
 // thread of its own. A request is read up to 8 KiB with a 2 s receive

@@ -1,40 +1,74 @@
-// The instructor's score sheets: for each session, the 7 indicator scores
-// (0..10) each expert submitted. Reports use the comprehensive weighted score
-// of the acupuncture paper §4.2 (hapsim::core assessment), computed over the
-// whole class: objective weights come from the spread across sessions.
+// The instructor's score sheets: for each session, the indicator scores
+// (0..10) each expert submitted, scored as the paper of the session's scene
+// does (docs/classroom.md#assessment):
+//   acupuncture and the other needle/probe scenes: the acupuncture paper's
+//     Delphi + mean-square-deviation weights (mu = 0.4), 7 indicators; the
+//     objective weights come from this session's raters' disagreement, so a
+//     trainee's score depends on their own raters only
+//   cutting: the cutting paper's residents' score, 7 indicators, its fixed
+//     Delphi weights
+//   vessel: the vascular paper's AHP, 9 indicators, weights from pairwise
+//     judgements (hapsim's defaults; refused if CR > 0.1)
+// A session's score is the mean over its experts of f = sum_j w_j x_j.
 #pragma once
+#include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "hapsim/v1/session.pb.h"
 
 namespace hapsim::service {
 
+enum class ScoringScheme { kDelphiMsd, kCuttingResidents, kVesselAhp };
+ScoringScheme SchemeForScene(const std::string& scene);
+const char* SchemeName(ScoringScheme scheme);
+std::size_t IndicatorCount(ScoringScheme scheme);  // 7, 7, 9
+
 class ScoreBook {
  public:
-  static constexpr std::size_t kIndicators = 7;
   // Bounds on what clients can make the server keep (sheets outlive their
   // session, for the class report): a class has tens of trainees and a few
   // experts, so these are far above use and cap the book at ~6 MB.
   static constexpr std::size_t kMaxExpertsPerSession = 32;
   static constexpr std::size_t kMaxScoredSessions = 1024;
 
-  // Throws ServiceError(kInvalidArgument) unless there are exactly 7 finite
-  // values in [0, 10]. The same expert scoring a session again replaces the
-  // earlier sheet. A new expert beyond kMaxExpertsPerSession, or a new
-  // session beyond kMaxScoredSessions, is kResourceExhausted.
-  void Submit(const std::string& session_id, const std::string& expert, const std::vector<double>& indicators);
-  // session_id empty: every scored session; otherwise just that one (class
-  // weights are still computed over all sessions). Throws kNotFound if the
-  // session has no scores.
-  void Report(const std::string& session_id, hapsim::v1::ScoreReport* out) const;
+  ScoreBook();  // checks the vessel judgements (CR) once
+
+  // Throws ServiceError(kInvalidArgument) unless there are exactly as many
+  // finite values in [0, 10] as the scene's scheme has indicators, and the
+  // expert's name is at most 128 characters. The same expert scoring a
+  // session again replaces the earlier sheet; a session scored under another
+  // scene than before (a pushed scenario) starts a new sheet set. A new
+  // expert beyond kMaxExpertsPerSession, or a new session beyond
+  // kMaxScoredSessions, is kResourceExhausted.
+  void Submit(const std::string& session_id, const std::string& scene, const std::string& expert,
+              const std::vector<double>& indicators);
+  // session_id empty: every scored session `visible` accepts (all when
+  // visible is empty); otherwise just that one (kNotFound if unscored).
+  void Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
+              const std::function<bool(const std::string&)>& visible = {}) const;
+
+  struct Summary {
+    std::uint32_t experts = 0;
+    double score = 0.0;
+  };
+  std::optional<Summary> SummaryOf(const std::string& session_id) const;  // nullopt: not scored
 
  private:
+  struct Sheets {
+    std::string scene;
+    std::map<std::string, std::vector<double>> by_expert;
+  };
+  void Describe(const std::string& id, const Sheets& sheets, hapsim::v1::SessionScore* out) const;
+
+  Eigen::VectorXd vessel_weights_;  // global AHP weights (9)
   mutable std::mutex mutex_;
-  // session -> expert -> 7 indicators
-  std::map<std::string, std::map<std::string, std::vector<double>>> sheets_;
+  std::map<std::string, Sheets> sheets_;
 };
 
 }  // namespace hapsim::service

@@ -2,12 +2,14 @@
 // frame pump, gRPC services. main.cpp parses flags and handles signals.
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <grpcpp/grpcpp.h>
 
 #include "hapsim/dds/dds.h"
+#include "hapsim/service/access_policy.h"
 #include "hapsim/service/frame_pump.h"
 #include "hapsim/service/metrics.h"
 #include "hapsim/service/score_book.h"
@@ -29,17 +31,28 @@ struct ServerOptions {
   hapsim::dds::Options dds;
   PoseLimits pose_limits;
   std::string metrics_listen_address;  // host:port for GET /metrics (Prometheus); empty: off
+  // Classes, their sessions (created at start) and tokens; none: development
+  // mode (no tokens, anyone who reaches the port may do anything).
+  std::optional<ClassConfig> classes;
+  // TLS: PEM files. Both cert and key, or neither (plain TCP). With
+  // client_ca_file, clients must present a certificate signed by that CA.
+  std::string tls_cert_file, tls_key_file, tls_client_ca_file;
 };
+
+// True for addresses only this machine reaches (127.x, ::1, localhost).
+bool IsLoopbackAddress(const std::string& listen_address);
 
 class ServerApp {
  public:
-  explicit ServerApp(const ServerOptions& options);  // throws on a port/DDS failure
+  // Throws on a port/DDS/TLS-file failure or a class session that cannot be created.
+  explicit ServerApp(const ServerOptions& options);
   ~ServerApp();
 
   SessionRegistry& registry() { return *registry_; }
   const ViewerHub& viewers() const { return viewers_; }
   const ServerDds& dds() const { return *dds_; }
   const TickPool& pool() const { return *pool_; }
+  const AccessPolicy& policy() const { return policy_; }
   int bound_port() const { return bound_port_; }
   int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
@@ -52,6 +65,7 @@ class ServerApp {
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;
   ScoreBook scores_;
+  AccessPolicy policy_;
   GrpcCallCounter grpc_calls_;  // outlives the gRPC server that calls into it
   std::unique_ptr<SessionServiceImpl> session_service_;
   std::unique_ptr<ViewerServiceImpl> viewer_service_;

@@ -1,7 +1,14 @@
 // gRPC SessionService: sessions (create/list/get/close/pause/resume/reset),
-// scene catalogue, mesh snapshots and the instructor's scoring. Synchronous
-// API: every call is short and never touches a session's tick directly.
+// scene catalogue, mesh snapshots, the instructor's scoring, device binding
+// (JoinSession), the class view (WatchClass) and pushing one scenario to a
+// class. Synchronous API: every call but WatchClass is short, and none
+// touches a session's tick directly. Every call first asks the AccessPolicy
+// who the caller is and whether it may (docs/classroom.md).
 #pragma once
+#include <condition_variable>
+#include <mutex>
+
+#include "hapsim/service/access_policy.h"
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/viewer_hub.h"
@@ -11,8 +18,14 @@ namespace hapsim::service {
 
 class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
  public:
-  SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores)
-      : registry_(registry), hub_(hub), scores_(scores) {}
+  // policy: nullptr = development mode (no tokens). dds_domain: what
+  // JoinSession tells devices.
+  SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
+                     const AccessPolicy* policy = nullptr, std::uint32_t dds_domain = 0);
+
+  // Ends every WatchClass stream (OK status) and refuses new ones; called
+  // before the gRPC server shuts down so no handler thread outlives it.
+  void Stop();
 
   grpc::Status ListScenes(grpc::ServerContext*, const hapsim::v1::ListScenesRequest*,
                           hapsim::v1::ListScenesResponse*) override;
@@ -30,12 +43,36 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   grpc::Status SubmitScores(grpc::ServerContext*, const hapsim::v1::SubmitScoresRequest*,
                             hapsim::v1::ScoreReport*) override;
   grpc::Status GetScores(grpc::ServerContext*, const hapsim::v1::ScoreQuery*, hapsim::v1::ScoreReport*) override;
+  grpc::Status JoinSession(grpc::ServerContext*, const hapsim::v1::SessionRef*,
+                           hapsim::v1::JoinSessionResponse*) override;
+  grpc::Status WatchClass(grpc::ServerContext*, const hapsim::v1::WatchClassRequest*,
+                          grpc::ServerWriter<hapsim::v1::ClassStatus>*) override;
+  grpc::Status PushScenario(grpc::ServerContext*, const hapsim::v1::PushScenarioRequest*,
+                            hapsim::v1::PushScenarioResponse*) override;
+
+  static constexpr double kDefaultWatchRateHz = 10.0;
+  static constexpr double kMaxWatchRateHz = 50.0;
+  static constexpr int kMaxWatchStreams = 16;  // each holds a server thread
 
  private:
+  std::optional<Principal> Caller(const grpc::ServerContext* context) const;
+  // The sessions of class `name` (nullptr: every session, development mode).
+  const std::vector<std::string>* ClassSessions(const std::string& name, std::vector<std::string>* storage) const;
+
   SessionRegistry* registry_;
   const ViewerHub* hub_;
   ScoreBook* scores_;
+  const AccessPolicy* policy_;
+  std::uint32_t dds_domain_;
+  std::mutex watch_mutex_;
+  std::condition_variable watch_wake_;
+  bool stopping_ = false;
+  int watch_streams_ = 0;
 };
+
+// The caller behind a gRPC call's metadata ("authorization"), for every
+// service: nullopt in development mode; throws ServiceError(kUnauthenticated).
+std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc::ServerContextBase* context);
 
 // Fills a SessionInfo from a session's counters.
 void DescribeSession(const Session& session, hapsim::v1::SessionInfo* info);

@@ -2,6 +2,7 @@
 // callback API with one small reactor per stream and at most one write in
 // flight. The first message names the session; the rest are acks.
 #pragma once
+#include "hapsim/service/access_policy.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/viewer_hub.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
@@ -10,8 +11,10 @@ namespace hapsim::service {
 
 class ViewerServiceImpl final : public hapsim::v1::ViewerService::CallbackService {
  public:
-  ViewerServiceImpl(const SessionRegistry* registry, ViewerHub* hub, double quantum_m)
-      : registry_(registry), hub_(hub), quantum_m_(quantum_m) {}
+  // policy: who may view which session (nullptr: development mode).
+  ViewerServiceImpl(const SessionRegistry* registry, ViewerHub* hub, double quantum_m,
+                    const AccessPolicy* policy = nullptr)
+      : registry_(registry), hub_(hub), quantum_m_(quantum_m), policy_(policy) {}
 
   grpc::ServerBidiReactor<hapsim::v1::ViewerMessage, hapsim::v1::Frame>* Subscribe(
       grpc::CallbackServerContext* context) override;
@@ -20,6 +23,7 @@ class ViewerServiceImpl final : public hapsim::v1::ViewerService::CallbackServic
   const SessionRegistry* registry_;
   ViewerHub* hub_;
   double quantum_m_;
+  const AccessPolicy* policy_;
 };
 
 }  // namespace hapsim::service
