@@ -3,6 +3,8 @@
 // snapshot, submit and read scores, check server health.
 #include <condition_variable>
 #include <cstdio>
+#include <deque>
+#include <unistd.h>
 #include <mutex>
 #include <cstdlib>
 #include <sstream>
@@ -15,15 +17,18 @@
 #include <grpcpp/grpcpp.h>
 
 #include "hapsim/v1/session.grpc.pb.h"
+#include "hapsim/viewer/connection.h"
 #include "hapsim/viewer/mesh_cache.h"
 #include "hapsim/viewer/session_client.h"
 
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hapsim-ctl [--server HOST:PORT] [--timeout-s S] COMMAND [ARGS]\n\n"
+    "usage: hapsim-ctl [--server HOST:PORT] [--timeout-s S] [--token T | --token-file F]\n"
+    "                  [--tls-ca CA.pem [--tls-cert C.pem --tls-key K.pem] [--tls-server-name N]] COMMAND [ARGS]\n\n"
     "Session control for a hapsim-server (default server 127.0.0.1:50051; every call gives up\n"
-    "after --timeout-s seconds, default 10).\n\ncommands:\n"
+    "after --timeout-s seconds, default 10). A server with a class config wants a token: --token,\n"
+    "--token-file or the HAPSIM_TOKEN environment variable (docs/classroom.md).\n\ncommands:\n"
     "  scenes                              the scenes a session can run, with every parameter\n"
     "  list                                list sessions with their counters\n"
     "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
@@ -33,6 +38,12 @@ constexpr const char* kUsage =
     "  score ID --indicators a,b,c,d,e,f,g [--expert NAME]\n"
     "                                      submit 7 indicator scores (0..10) for a session\n"
     "  scores [ID]                         comprehensive scores of one session or the whole class\n"
+    "  join ID                             the DDS partition and domain a device of session ID streams on\n"
+    "  watch [CLASS] [--rate-hz R] [--count N]\n"
+    "                                      live table of every session of CLASS (like top; no CLASS: every\n"
+    "                                      session of a server without a class config); --count: stop after N\n"
+    "  push CLASS [--scene NAME] [--param KEY=VALUE]...\n"
+    "                                      restart every session of CLASS with this scene (same ids, trainees)\n"
     "  health                              gRPC health check (exit 0 when SERVING)\n";
 
 int Fail(const grpc::Status& s) {
@@ -77,15 +88,92 @@ bool ParseIndicators(const std::string& text, hapsim::v1::SubmitScoresRequest* r
   return true;
 }
 
+// `watch`: the class view as a table, redrawn in place on a terminal (like
+// top) or printed block after block into a pipe or file.
+int Watch(hapsim::v1::SessionService::Stub& stub, const std::string& token, const std::string& class_name,
+          const std::string& rate_text, const std::string& count_text) {
+  hapsim::v1::WatchClassRequest req;
+  req.set_class_name(class_name);
+  long count = 0;
+  if (!rate_text.empty()) {
+    char* end = nullptr;
+    req.set_rate_hz(std::strtod(rate_text.c_str(), &end));
+    if (*end != '\0' || !(req.rate_hz() >= 0.1 && req.rate_hz() <= 50.0)) {
+      std::fprintf(stderr, "hapsim-ctl: --rate-hz wants [0.1, 50], got '%s'\n", rate_text.c_str());
+      return 2;
+    }
+  }
+  if (!count_text.empty()) {
+    char* end = nullptr;
+    count = std::strtol(count_text.c_str(), &end, 10);
+    if (*end != '\0' || count < 1) {
+      std::fprintf(stderr, "hapsim-ctl: --count wants a whole number >= 1, got '%s'\n", count_text.c_str());
+      return 2;
+    }
+  }
+  grpc::ClientContext ctx;
+  hapsim::viewer::AddToken(&ctx, token);
+  auto reader = stub.WatchClass(&ctx, req);
+  const bool terminal = ::isatty(STDOUT_FILENO) != 0;
+  std::map<std::string, std::deque<std::string>> recent;  // session -> last events, newest last
+  std::map<std::string, std::uint64_t> event_counts;
+  hapsim::v1::ClassStatus status;
+  long shown = 0;
+  while (reader->Read(&status)) {
+    if (terminal) std::printf("\033[H\033[2J");
+    std::printf("class %s  update %llu  (%d sessions%s)\n", class_name.empty() ? "(all)" : class_name.c_str(),
+                static_cast<unsigned long long>(status.seq()), status.sessions_size(),
+                status.missing_sessions_size() ? ", some not running" : "");
+    std::printf("%-10s %-10s %-12s %-6s %-9s %8s %-8s %8s %8s %6s %8s %-7s %s\n", "SESSION", "TRAINEE", "SCENE",
+                "DEVICE", "CONTACT", "DEPTH_MM", "LAYER", "FORCE_N", "PEAK_N", "LATE", "EVENTS", "SCORE",
+                "RECENT EVENTS");
+    for (const auto& s : status.sessions()) {
+      auto& last = recent[s.session_id()];
+      for (const auto& e : s.events()) {
+        ++event_counts[s.session_id()];
+        last.push_back(e.kind() + "@" + std::to_string(e.t_s()).substr(0, 6) + "s");
+        if (last.size() > 3) last.pop_front();
+      }
+      std::string events;
+      for (const auto& e : last) events += (events.empty() ? "" : " ") + e;
+      char score[16] = "-";
+      if (s.experts() > 0) std::snprintf(score, sizeof score, "%.2f", s.score());
+      std::printf("%-10.10s %-10.10s %-12.12s %-6s %-9.9s %8.2f %-8.8s %8.3f %8.3f %6llu %8llu %-7s %s%s\n",
+                  s.session_id().c_str(), s.trainee().c_str(), s.scene().c_str(),
+                  s.device_streaming() ? "yes" : "no", s.contact_state().c_str(), s.tip_depth_m() * 1e3,
+                  s.layer_name().empty() ? "-" : s.layer_name().c_str(), s.force_n(), s.peak_tool_force_n(),
+                  static_cast<unsigned long long>(s.late_ticks()),
+                  static_cast<unsigned long long>(event_counts[s.session_id()]), score, events.c_str(),
+                  s.paused() ? " [paused]" : "");
+    }
+    for (const auto& m : status.missing_sessions()) std::printf("%-10.10s (not running)\n", m.c_str());
+    if (!terminal) std::printf("\n");
+    std::fflush(stdout);
+    if (count > 0 && ++shown >= count) {
+      ctx.TryCancel();
+      break;
+    }
+  }
+  const auto s = reader->Finish();
+  if (count > 0 && shown >= count) return 0;
+  return s.ok() ? 0 : Fail(s);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  std::string server = "127.0.0.1:50051";
+  hapsim::viewer::Connection connection;
+  hapsim::viewer::ConnectionFlags connection_flags;
   double timeout_s = 10.0;
-  while (args.size() >= 2 && (args[0] == "--server" || args[0] == "--timeout-s")) {
-    if (args[0] == "--server") {
-      server = args[1];
+  const std::map<std::string, std::string*> string_options = {
+      {"--server", &connection.address},         {"--token", &connection.token},
+      {"--token-file", &connection_flags.token_file}, {"--tls-ca", &connection.tls_ca_file},
+      {"--tls-cert", &connection.tls_cert_file}, {"--tls-key", &connection.tls_key_file},
+      {"--tls-server-name", &connection.tls_server_name}};
+  while (args.size() >= 2 && (string_options.count(args[0]) || args[0] == "--timeout-s")) {
+    if (args[0] != "--timeout-s") {
+      *string_options.at(args[0]) = args[1];
     } else {
       char* end = nullptr;
       timeout_s = std::strtod(args[1].c_str(), &end);
@@ -95,6 +183,10 @@ int main(int argc, char** argv) {
       }
     }
     args.erase(args.begin(), args.begin() + 2);
+  }
+  if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+    std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
+    return 2;
   }
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fputs(kUsage, args.empty() ? stderr : stdout);
@@ -115,6 +207,8 @@ int main(int argc, char** argv) {
       {"create", {"--id", "--scene", "--owner", "--param"}},
       {"snapshot", {"--obj"}},
       {"score", {"--indicators", "--expert"}},
+      {"watch", {"--rate-hz", "--count"}},
+      {"push", {"--scene", "--param"}},
   };
   {
     const auto known = options_of.find(command);
@@ -132,9 +226,17 @@ int main(int argc, char** argv) {
     }
   }
 
-  auto channel = grpc::CreateChannel(server, grpc::InsecureChannelCredentials());
+  std::shared_ptr<grpc::Channel> channel;
+  try {
+    channel = hapsim::viewer::MakeChannel(connection);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-ctl: %s\n", e.what());
+    return 2;
+  }
   auto stub = hapsim::v1::SessionService::NewStub(channel);
+  if (command == "watch") return Watch(*stub, connection.token, positional(), option("--rate-hz"), option("--count"));
   grpc::ClientContext ctx;
+  hapsim::viewer::AddToken(&ctx, connection.token);
   ctx.set_deadline(std::chrono::system_clock::now() +
                    std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(timeout_s)));
 
@@ -270,6 +372,36 @@ int main(int argc, char** argv) {
     const auto s = stub->GetScores(&ctx, q, &r);
     if (!s.ok()) return Fail(s);
     PrintScores(r);
+    return 0;
+  }
+  if (command == "join") {
+    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: join needs a session id\n"); return 2; }
+    hapsim::v1::JoinSessionResponse r;
+    const auto s = stub->JoinSession(&ctx, ref, &r);
+    if (!s.ok()) return Fail(s);
+    std::printf("session=%s scene=%s dds_domain=%u dds_partition=%s\n", r.session_id().c_str(), r.scene().c_str(),
+                r.dds_domain(), r.dds_partition().c_str());
+    std::printf("start the device with: hapsim-bridge --session %s --dds-domain %u\n", r.session_id().c_str(),
+                r.dds_domain());
+    return 0;
+  }
+  if (command == "push") {
+    hapsim::v1::PushScenarioRequest req;
+    req.set_class_name(id);
+    req.set_scene(option("--scene"));
+    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
+      if (args[i] != "--param") continue;
+      if (!hapsim::viewer::AddSceneParam(args[i + 1], req.mutable_params())) {
+        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
+        return 2;
+      }
+    }
+    hapsim::v1::PushScenarioResponse r;
+    const auto s = stub->PushScenario(&ctx, req, &r);
+    if (!s.ok()) return Fail(s);
+    for (const auto& i : r.sessions()) PrintInfo(i);
+    std::printf("pushed %s to %d sessions\n", req.scene().empty() ? "tissue_block" : req.scene().c_str(),
+                r.sessions_size());
     return 0;
   }
   std::fprintf(stderr, "hapsim-ctl: unknown command '%s'\n%s", command.c_str(), kUsage);

@@ -14,14 +14,17 @@
 #include "hapsim/viewer/viewer_client.h"
 
 int main(int argc, char** argv) {
-  std::string server = "127.0.0.1:50051", obj_path, log_level = "info";
+  std::string obj_path, log_level = "info";
+  hapsim::viewer::Connection connection;
+  hapsim::viewer::ConnectionFlags connection_flags;
   hapsim::viewer::ViewerOptions options;
   int frames = 0, drop_seq = -1, ack_window = 2;
   bool headless = true;
   hapsim::common::Flags flags("hapsim-viewer",
                                "Viewer of hapsim: subscribes to a session's frames (keyframe, then deltas) over gRPC,\n"
                                "resyncs on a gap, and in headless mode writes the final mesh as OBJ with counts.");
-  flags.Add("server", &server, "server gRPC address host:port");
+  flags.Add("server", &connection.address, "server gRPC address host:port");
+  hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
   flags.Add("session", &options.session, "session id to watch");
   flags.Add("name", &options.name, "viewer name shown in server logs");
   flags.Add("headless", &headless, "no window (the only mode in this build)");
@@ -38,6 +41,10 @@ int main(int argc, char** argv) {
     case hapsim::common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
     case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str()); return 2;
     case hapsim::common::Flags::Result::kOk: break;
+  }
+  if (!hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str());
+    return 2;
   }
   if (!hapsim::common::SetUpLogging("viewer", log_level)) {
     std::fprintf(stderr, "hapsim-viewer: unknown --log-level '%s'\n", log_level.c_str());
@@ -64,8 +71,16 @@ int main(int argc, char** argv) {
   options.ack_window = static_cast<std::uint32_t>(ack_window);
   options.max_frames = static_cast<std::uint64_t>(frames);
   options.debug_drop_seq = drop_seq;
+  options.token = connection.token;
 
-  hapsim::viewer::ViewerClient client(hapsim::viewer::MakeViewerChannel(server), options);
+  std::shared_ptr<grpc::Channel> channel;
+  try {
+    channel = hapsim::viewer::MakeViewerChannel(connection);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", e.what());
+    return 2;
+  }
+  hapsim::viewer::ViewerClient client(channel, options);
   asio::io_context io;
   asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const std::error_code& ec, int) {

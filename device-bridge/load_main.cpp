@@ -56,7 +56,9 @@ struct CloseSessionsAtExit {
 
 int main(int argc, char** argv) {
   hapsim::bridge::LoadPlanOptions plan_options;
-  std::string sessions, create_scene, params, server = "127.0.0.1:50051", json_file, csv_file;
+  std::string sessions, create_scene, params, json_file, csv_file;
+  hapsim::viewer::Connection connection;
+  hapsim::viewer::ConnectionFlags connection_flags;
   int devices = plan_options.devices, first_device_id = static_cast<int>(plan_options.first_device_id);
   double seconds = 0.0, rate_hz = 1000.0;
   bool keep_sessions = false, server_stats = false;
@@ -79,7 +81,8 @@ int main(int argc, char** argv) {
   flags.Add("params", &params, "with --create: scene parameters k=v,k=v (SI, as hapsim-ctl create --param)");
   flags.Add("keep-sessions", &keep_sessions, "with --create: leave the sessions open at exit");
   flags.Add("server-stats", &server_stats, "read the server's session counters after the run even without --create");
-  flags.Add("server", &server, "gRPC address of the hapsim-server (for --create and --server-stats)");
+  flags.Add("server", &connection.address, "gRPC address of the hapsim-server (for --create and --server-stats)");
+  hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
   flags.Add("json", &json_file, "write the summary as JSON here");
   flags.Add("csv", &csv_file, "write the per-device summary as CSV here (last row: total)");
   hapsim::bridge::AddProcessFlags(flags, &process);
@@ -92,6 +95,10 @@ int main(int argc, char** argv) {
   });
   if (!out_of_range.empty()) {
     std::fprintf(stderr, "hapsim-load: %s\n", out_of_range.c_str());
+    return 2;
+  }
+  if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+    std::fprintf(stderr, "hapsim-load: %s\n", error.c_str());
     return 2;
   }
   if (const std::string bad = hapsim::bridge::CheckSceneParams(params); !bad.empty()) {
@@ -118,9 +125,9 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> session_ids;
   for (const auto& d : plan) session_ids.push_back(d.session);
-  hapsim::viewer::SessionClient client(server);
-  CloseSessionsAtExit close_at_exit;
   try {
+    hapsim::viewer::SessionClient client(connection);  // throws on unreadable TLS files
+    CloseSessionsAtExit close_at_exit;                 // declared after the client: runs first
     hapsim::bridge::ModelRouter router(plan.front().device_id, session_ids);
     hapsim::bridge::DeviceDds dds(process.Dds(), &router);
     hapsim::bridge::LoadRunner runner(plan, run_config, &router,
@@ -131,10 +138,10 @@ int main(int argc, char** argv) {
       std::vector<std::string> created;
       const std::string create_error = hapsim::bridge::CreateSessions(client, plan, {create_scene, params}, &created);
       if (!create_error.empty()) {
-        std::fprintf(stderr, "hapsim-load: cannot create sessions at %s: %s\n", server.c_str(), create_error.c_str());
+        std::fprintf(stderr, "hapsim-load: cannot create sessions at %s: %s\n", connection.address.c_str(), create_error.c_str());
         return 1;
       }
-      spdlog::info("created {} sessions of {} at {}", created.size(), create_scene, server);
+      spdlog::info("created {} sessions of {} at {}", created.size(), create_scene, connection.address);
       if (!keep_sessions) {
         close_at_exit.client = &client;
         close_at_exit.ids = created;

@@ -9,10 +9,15 @@ SessionClient::SessionClient(const std::string& address, double call_timeout_s)
     : stub_(v1::SessionService::NewStub(grpc::CreateChannel(address, grpc::InsecureChannelCredentials()))),
       call_timeout_s_(call_timeout_s) {}
 
+SessionClient::SessionClient(const Connection& connection, double call_timeout_s)
+    : stub_(v1::SessionService::NewStub(MakeChannel(connection))), token_(connection.token),
+      call_timeout_s_(call_timeout_s) {}
+
 void SessionClient::SetDeadline(grpc::ClientContext* context) const {
   context->set_deadline(std::chrono::system_clock::now() +
                         std::chrono::duration_cast<std::chrono::milliseconds>(
                             std::chrono::duration<double>(call_timeout_s_)));
+  AddToken(context, token_);
 }
 
 grpc::Status SessionClient::Create(const v1::CreateSessionRequest& request, v1::SessionInfo* info) {

@@ -8,12 +8,18 @@
 
 namespace hapsim::viewer {
 
-std::shared_ptr<grpc::Channel> MakeViewerChannel(const std::string& address) {
+std::shared_ptr<grpc::Channel> MakeViewerChannel(const Connection& connection) {
   grpc::ChannelArguments args;
   args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
   args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, 16 * 1024);
   args.SetMaxReceiveMessageSize(64 << 20);  // keyframes of large meshes
-  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+  return MakeChannel(connection, args);
+}
+
+std::shared_ptr<grpc::Channel> MakeViewerChannel(const std::string& address) {
+  Connection connection;
+  connection.address = address;
+  return MakeViewerChannel(connection);
 }
 
 ViewerClient::ViewerClient(std::shared_ptr<grpc::Channel> channel, ViewerOptions options)
@@ -39,6 +45,7 @@ bool ViewerClient::Run() {
   bool first_stream = true;
   while (!stop_) {
     grpc::ClientContext context;
+    AddToken(&context, options_.token);
     if (deadline != clock::time_point::max()) {
       context.set_deadline(std::chrono::system_clock::now() + (deadline - clock::now()));
     }

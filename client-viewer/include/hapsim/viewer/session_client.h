@@ -8,19 +8,23 @@
 #include <grpcpp/grpcpp.h>
 
 #include "hapsim/v1/session.grpc.pb.h"
+#include "hapsim/viewer/connection.h"
 
 namespace hapsim::viewer {
 
 class SessionClient {
  public:
   explicit SessionClient(const std::string& address, double call_timeout_s = 10.0);
+  // Throws std::runtime_error for unreadable TLS files (MakeChannel).
+  explicit SessionClient(const Connection& connection, double call_timeout_s = 10.0);
   grpc::Status Create(const v1::CreateSessionRequest& request, v1::SessionInfo* info);
   grpc::Status Get(const std::string& session_id, v1::SessionInfo* info);
   grpc::Status Close(const std::string& session_id);
 
  private:
-  void SetDeadline(grpc::ClientContext* context) const;
+  void SetDeadline(grpc::ClientContext* context) const;  // and the token
   std::unique_ptr<v1::SessionService::Stub> stub_;
+  std::string token_;
   double call_timeout_s_;
 };
 

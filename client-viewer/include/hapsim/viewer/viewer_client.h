@@ -13,6 +13,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "hapsim/v1/viewer.grpc.pb.h"
+#include "hapsim/viewer/connection.h"
 #include "hapsim/viewer/mesh_cache.h"
 
 namespace hapsim::viewer {
@@ -25,6 +26,7 @@ struct ViewerOptions {
   std::uint64_t max_frames = 0;      // stop after this many frames (0: no limit)
   double max_seconds = 0.0;          // stop after this long (0: no limit)
   double connect_timeout_s = 10.0;
+  std::string token;                 // bearer token (servers with a class config)
   // Fault injection for tests: pretend the frame with this seq of the first
   // stream was lost (not applied), forcing gap detection and a resubscribe.
   std::int64_t debug_drop_seq = -1;
@@ -47,6 +49,7 @@ struct ViewerStats {
 // Channel with the small HTTP/2 windows that keep a slow viewer's lag short
 // (see docs/architecture.md, "gRPC backpressure").
 std::shared_ptr<grpc::Channel> MakeViewerChannel(const std::string& address);
+std::shared_ptr<grpc::Channel> MakeViewerChannel(const Connection& connection);  // + TLS (throws like MakeChannel)
 
 class ViewerClient {
  public:
