@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""Checks of classroom.sh (issue 13): class view, roles, TLS, scores, metrics."""
+import os
+import re
+import sys
+
+from checks import check, finish
+
+work, server_rc = sys.argv[1], int(sys.argv[2])
+
+
+def read(name):
+    path = os.path.join(work, name)
+    return open(path).read() if os.path.exists(path) else ""
+
+
+def rc(name):
+    return int(read(name + ".rc").strip() or "-1")
+
+
+check(server_rc == 0, f"server exited cleanly (rc {server_rc})")
+check(rc("watch") == 0, f"instructor's watch ran (rc {rc('watch')}: {read('watch.err').strip()[:200]})")
+
+# Blocks: "class acu-101  update N  (...)", a header, one row per session.
+blocks = [b for b in read("watch.out").split("\n\n") if b.startswith("class acu-101")]
+check(len(blocks) >= 40, f"{len(blocks)} class-view updates in 6 s at 10 Hz (want >= 40)")
+sessions = [f"t{k}" for k in range(1, 9)]
+seen_device, max_depth, last_events = {}, {}, {}
+for b in blocks:
+    for line in b.splitlines()[2:]:
+        f = line.split()
+        if len(f) < 12 or f[0] not in sessions:
+            continue
+        s = f[0]
+        seen_device[s] = seen_device.get(s, False) or f[3] == "yes"
+        max_depth[s] = max(max_depth.get(s, 0.0), float(f[5]))
+        last_events[s] = int(f[10])
+for s in sessions:
+    check(s in last_events, f"{s} listed in the class view")
+    check(seen_device.get(s, False), f"{s}: device streaming seen")
+    check(max_depth.get(s, 0.0) > 1.0, f"{s}: tip depth reached {max_depth.get(s, 0.0):.2f} mm (> 1 mm)")
+    check(last_events.get(s, 0) >= 2, f"{s}: {last_events.get(s, 0)} events reported (>= 2: contact, puncture...)")
+punctures = len(re.findall(r"puncture@", read("watch.out")))
+check(punctures > 0, f"puncture events shown in the recent-events column ({punctures} times)")
+
+check(rc("observer_watch") == 0, "observer may watch the class")
+check(rc("observer_reset") != 0 and "(7)" in read("observer_reset.err"),
+        f"observer reset refused with PERMISSION_DENIED: {read('observer_reset.err').strip()}")
+check(rc("trainee_join") == 0 and "dds_partition=hapsim_s_t1" in read("trainee_join.out"),
+        f"trainee joins its own session: {read('trainee_join.out').strip().splitlines()[:1]}")
+check(rc("trainee_other") != 0 and "(7)" in read("trainee_other.err"),
+        f"trainee may not view another's session: {read('trainee_other.err').strip()}")
+check(rc("no_token") != 0 and "(16)" in read("no_token.err"),
+        f"no token: UNAUTHENTICATED: {read('no_token.err').strip()}")
+check(rc("plain_tcp") != 0 and "(14)" in read("plain_tcp.err"),
+        f"plain TCP to the TLS port refused: {read('plain_tcp.err').strip()[:120]}")
+
+# Two raters of t1: the hand-computed two-rater example, mean f = 6.790.
+m = re.search(r"^t1 experts=2 score=([0-9.]+)", read("scores.out"), re.M)
+check(m is not None and abs(float(m.group(1)) - 6.790) < 1e-3,
+        f"t1 scored from its own two raters: {m.group(0) if m else read('scores.out')[:200]}")
+
+metrics = read("metrics.txt")
+denied = re.search(r'hapsim_auth_failures_total\{reason="permission_denied"\} (\d+)', metrics)
+unauth = re.search(r'hapsim_auth_failures_total\{reason="unauthenticated"\} (\d+)', metrics)
+check(denied is not None and int(denied.group(1)) >= 2, f"metrics count permission_denied: {denied.group(0) if denied else 'missing'}")
+check(unauth is not None and int(unauth.group(1)) >= 1, f"metrics count unauthenticated: {unauth.group(0) if unauth else 'missing'}")
+finish()

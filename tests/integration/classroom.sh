@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Issue 13: a class of 8 trainees on TLS with tokens, as README's classroom
+# section runs it. deploy/make-dev-certs.sh and deploy/make-class.sh make
+# the certificates and the class (8 acupuncture sessions t1..t8, tokens);
+# hapsim-load drives all 8 with synthetic devices (phase-shifted needle
+# insertions); the instructor watches with `hapsim-ctl watch`. check_classroom.py
+# checks:
+#  - the class view lists t1..t8, every one with its device streaming and
+#    its own contact/puncture events, and tip depths > 0 while inserting;
+#  - an observer may watch but not reset; a trainee may join its own session
+#    but not view another's; no token and a plain-TCP client are refused;
+#  - scores submitted by the instructor come back per session, and /metrics
+#    counts the refusals (hapsim_auth_failures_total).
+# Bounded (about 15 s); everything on 127.0.0.1.
+set -euo pipefail
+source "$(dirname "$0")/lib.sh" "$@"
+repo=$(cd "$here/../.." && pwd)
+bash "$repo/deploy/make-dev-certs.sh" certs >/dev/null
+bash "$repo/deploy/make-class.sh" class acu-101 8 acupuncture >/dev/null
+rm -f metrics_port
+start_server "" --class-config class/class.toml --tls-cert certs/server.pem --tls-key certs/server.key \
+    --metrics-listen 127.0.0.1:0 --pose-timeout-ms 250
+metrics_port=$(grep -o 'metrics at [^ ]* (port [0-9]*' server.log | grep -o '[0-9]*$' || true)
+tls=(--server "$addr" --tls-ca certs/ca.pem)
+ctl=("$bin/hapsim-ctl" "${tls[@]}")
+as() { local who=$1; shift; "${ctl[@]}" --token-file "class/tokens/$who.token" "$@"; }
+run() { local name=$1 code=0; shift; "$@" >"$name.out" 2>"$name.err" || code=$?; echo "$code" >"$name.rc"; }
+
+# The trainees' devices: 8 synthetic needles, one per session, 7 s.
+"$bin/hapsim-load" --sessions t1,t2,t3,t4,t5,t6,t7,t8 --dds-domain "$domain" --script insertion \
+    --depth-mm 12 --speed-mm-s 20 --hold-s 0.3 --phase-spread-s 1.0 --seconds 7 >load.out 2>load.err &
+load=$!; pids+=("$load")
+# The instructor's live table (a pipe, so one block per update): 10 Hz for 6 s.
+sleep 0.5
+run watch as instructor watch acu-101 --rate-hz 10 --count 60
+run observer_watch as observer watch acu-101 --count 2
+run observer_reset as observer reset t2
+run trainee_join as trainee1 join t1
+run trainee_other as trainee1 info t2
+run no_token "${ctl[@]}" list
+run plain_tcp "$bin/hapsim-ctl" --server "$addr" --token-file class/tokens/instructor.token list
+run score1 as instructor score t1 --expert dr-a --indicators 8,6,7,9,5,8,7
+run score2 as instructor score t1 --expert dr-b --indicators 6,6,9,9,7,8,5
+run scores as instructor scores
+wait "$load" || true
+curl -s "http://127.0.0.1:$metrics_port/metrics" >metrics.txt || true
+stop_process server_rc "$server"
+pids=()
+tail -n 12 watch.out
+/usr/bin/python3 "$here/check_classroom.py" "$work" "$server_rc"
