@@ -44,6 +44,8 @@ constexpr const char* kUsage =
     "                                      session of a server without a class config); --count: stop after N\n"
     "  push CLASS [--scene NAME] [--param KEY=VALUE]...\n"
     "                                      restart every session of CLASS with this scene (same ids, trainees)\n"
+    "  trials [CLASS] [--csv FILE]          every trial's automatic metrics (depth error, layers, peak forces,\n"
+    "                                      incision, line deviation, score) as CSV, to stdout or FILE\n"
     "  health                              gRPC health check (exit 0 when SERVING)\n";
 
 int Fail(const grpc::Status& s) {
@@ -209,6 +211,7 @@ int main(int argc, char** argv) {
       {"score", {"--indicators", "--expert"}},
       {"watch", {"--rate-hz", "--count"}},
       {"push", {"--scene", "--param"}},
+      {"trials", {"--csv"}},
   };
   {
     const auto known = options_of.find(command);
@@ -383,6 +386,25 @@ int main(int argc, char** argv) {
                 r.dds_domain(), r.dds_partition().c_str());
     std::printf("start the device with: hapsim-bridge --session %s --dds-domain %u\n", r.session_id().c_str(),
                 r.dds_domain());
+    return 0;
+  }
+  if (command == "trials") {
+    hapsim::v1::TrialQuery q;
+    q.set_class_name(id);
+    hapsim::v1::TrialReport r;
+    const auto s = stub->GetTrials(&ctx, q, &r);
+    if (!s.ok()) return Fail(s);
+    const std::string file = option("--csv");
+    if (file.empty()) {
+      std::fputs(r.csv().c_str(), stdout);
+      return 0;
+    }
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    if (!f || std::fputs(r.csv().c_str(), f) < 0 || std::fclose(f) != 0) {
+      std::fprintf(stderr, "hapsim-ctl: cannot write %s\n", file.c_str());
+      return 1;
+    }
+    std::printf("wrote %u trials to %s\n", r.trials(), file.c_str());
     return 0;
   }
   if (command == "push") {

@@ -6,14 +6,17 @@
 #   DIR/tokens/traineeK.token            trainee K's token (drives and views session tK only)
 # Hand each person their token file; they pass it with --token-file.
 #
-# usage: deploy/make-class.sh DIR CLASS TRAINEES [SCENE]
-#   e.g. deploy/make-class.sh /tmp/class acu-101 8 acupuncture
+# usage: deploy/make-class.sh DIR CLASS TRAINEES [SCENE [TARGET_DEPTH_MM]]
+#   e.g. deploy/make-class.sh /tmp/class acu-101 8 acupuncture 10
+#   TARGET_DEPTH_MM: the needle depth the trials' depth error is measured against
 set -euo pipefail
 if [ $# -lt 3 ] || [ "$1" = "-h" ] || [ "$1" = "--help" ]; then
-  sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+  sed -n '2,12p' "$0" | sed 's/^# \{0,1\}//'
   [ $# -ge 1 ] && [ "$1" != "-h" ] && [ "$1" != "--help" ] && exit 2 || exit 0
 fi
-dir=$1 class=$2 trainees=$3 scene=${4:-acupuncture}
+dir=$1 class=$2 trainees=$3 scene=${4:-acupuncture} target_depth_mm=${5:-}
+[ -z "$target_depth_mm" ] || [[ $target_depth_mm =~ ^[0-9]+(\.[0-9]+)?$ ]] \
+  || { echo "make-class: TARGET_DEPTH_MM must be a positive number" >&2; exit 2; }
 [[ $class =~ ^[A-Za-z0-9_-]{1,63}$ ]] || { echo "make-class: class name must be 1-63 of [A-Za-z0-9_-]" >&2; exit 2; }
 [[ $trainees =~ ^[0-9]+$ ]] && [ "$trainees" -ge 1 ] && [ "$trainees" -le 60 ] \
   || { echo "make-class: TRAINEES must be 1..60" >&2; exit 2; }
@@ -32,6 +35,7 @@ new_token() {  # name -> writes the token file, prints its sha256
   echo
   echo "[[class]]"
   echo "name = \"$class\""
+  [ -z "$target_depth_mm" ] || echo "target_depth_m = $(awk -v d="$target_depth_mm" 'BEGIN { printf "%.6f", d / 1000 }')"
   for k in $(seq 1 "$trainees"); do
     echo
     echo "[[class.session]]"

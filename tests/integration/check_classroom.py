@@ -65,4 +65,25 @@ denied = re.search(r'hapsim_auth_failures_total\{reason="permission_denied"\} (\
 unauth = re.search(r'hapsim_auth_failures_total\{reason="unauthenticated"\} (\d+)', metrics)
 check(denied is not None and int(denied.group(1)) >= 2, f"metrics count permission_denied: {denied.group(0) if denied else 'missing'}")
 check(unauth is not None and int(unauth.group(1)) >= 1, f"metrics count unauthenticated: {unauth.group(0) if unauth else 'missing'}")
+# Trials: the CSV the instructor exported after resetting t1.
+import csv
+import io
+rows = list(csv.DictReader(io.StringIO(read("trials.csv"))))
+check(rc("trials") == 0 and len(rows) >= 9, f"trials exported: {len(rows)} rows (rc {rc('trials')})")
+t1 = [r for r in rows if r["session"] == "t1" and r["end"] == "reset"]
+check(len(t1) == 1, f"t1 has one trial ended by the reset ({len(t1)})")
+if t1:
+    r = t1[0]
+    check(abs(float(r["max_depth_mm"]) - 12.0) < 0.1, f"t1 trial max depth {r['max_depth_mm']} mm (script: 12 mm)")
+    check(r["target_depth_mm"] == "10.000" and abs(float(r["depth_error_mm"]) - 2.0) < 0.1,
+          f"t1 depth error {r['depth_error_mm']} mm against the 10 mm target")
+    check("skin" in r["layers_pierced"].split("+") and int(r["punctures"]) >= 1,
+          f"t1 pierced {r['layers_pierced']} ({r['punctures']} punctures)")
+    check("skin=" in r["peak_force_by_layer_N"] and float(r["peak_force_N"]) > 1.0,
+          f"t1 peak forces: {r['peak_force_N']} N, by layer {r['peak_force_by_layer_N']}")
+    check(r["score"] != "" and abs(float(r["score"]) - 6.79) < 1e-3, f"t1 trial carries its score {r['score']}")
+for k in range(2, 9):
+    mine = [r for r in rows if r["session"] == f"t{k}"]
+    check(any(int(r["punctures"]) > 0 for r in mine), f"t{k} has a trial with punctures")
+check(rc("observer_trials") == 0, "observer may read the class's trials")
 finish()

@@ -10,13 +10,16 @@
 #  - an observer may watch but not reset; a trainee may join its own session
 #    but not view another's; no token and a plain-TCP client are refused;
 #  - scores submitted by the instructor come back per session, and /metrics
-#    counts the refusals (hapsim_auth_failures_total).
+#    counts the refusals (hapsim_auth_failures_total);
+#  - the trials CSV: t1's trial ended by the reset went 12 mm deep (depth
+#    error +2 mm against the 10 mm target), pierced skin, with peak forces
+#    per layer; every session has a trial with punctures.
 # Bounded (about 15 s); everything on 127.0.0.1.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
 repo=$(cd "$here/../.." && pwd)
 bash "$repo/deploy/make-dev-certs.sh" certs >/dev/null
-bash "$repo/deploy/make-class.sh" class acu-101 8 acupuncture >/dev/null
+bash "$repo/deploy/make-class.sh" class acu-101 8 acupuncture 10 >/dev/null  # target depth 10 mm
 rm -f metrics_port
 start_server "" --class-config class/class.toml --tls-cert certs/server.pem --tls-key certs/server.key \
     --metrics-listen 127.0.0.1:0 --pose-timeout-ms 250
@@ -43,6 +46,11 @@ run score1 as instructor score t1 --expert dr-a --indicators 8,6,7,9,5,8,7
 run score2 as instructor score t1 --expert dr-b --indicators 6,6,9,9,7,8,5
 run scores as instructor scores
 wait "$load" || true
+# The instructor ends t1's trial (reset) and exports the class's trials.
+run reset_t1 as instructor reset t1
+sleep 0.2
+run trials as instructor trials acu-101 --csv trials.csv
+run observer_trials as observer trials acu-101
 curl -s "http://127.0.0.1:$metrics_port/metrics" >metrics.txt || true
 stop_process server_rc "$server"
 pids=()

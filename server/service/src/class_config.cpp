@@ -1,6 +1,7 @@
 #include "hapsim/service/class_config.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -116,13 +117,26 @@ ClassConfig ParseClassConfig(std::string_view text, std::string_view origin) {
   for (const auto& class_node : *classes) {
     const auto* t = class_node.as_table();
     if (!t) check.Fail(class_node, "each [[class]] must be a table");
-    check.OnlyKeys(*t, {"name", "session"}, "[[class]]");
+    check.OnlyKeys(*t, {"name", "session", "target_depth_m", "target_line_m"}, "[[class]]");
     ClassDef def;
     def.name = check.String(*t, "name", "[[class]]", true);
     if (def.name.empty() || !common::IsValidSessionId(def.name)) {
       check.Fail(*t->get("name"), "class name '" + def.name + "' must be 1-63 characters of [A-Za-z0-9_-]");
     }
     if (!class_names.insert(def.name).second) check.Fail(*t->get("name"), "class '" + def.name + "' is listed twice");
+    if (const toml::node* depth = t->get("target_depth_m")) {
+      const auto v = depth->value<double>();
+      if (!v || !(*v > 0.0 && *v < 0.2)) check.Fail(*depth, "target_depth_m must be a number in (0, 0.2) m");
+      def.targets.depth_m = *v;
+    }
+    if (const toml::array* line = check.Array(*t, "target_line_m")) {
+      if (line->size() != 4) check.Fail(*t->get("target_line_m"), "target_line_m is [x0, y0, x1, y1] in metres");
+      for (std::size_t k = 0; k < 4; ++k) {
+        const auto v = (*line)[k].value<double>();
+        if (!v || !(std::abs(*v) < 1.0)) check.Fail((*line)[k], "target_line_m coordinates must be numbers within 1 m");
+        def.targets.line_m[k] = *v;
+      }
+    }
     const toml::array* sessions = check.Array(*t, "session");
     if (!sessions || sessions->empty()) check.Fail(*t, "class '" + def.name + "' has no [[class.session]]");
     for (const auto& session_node : *sessions) {

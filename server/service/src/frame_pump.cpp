@@ -6,8 +6,8 @@
 
 namespace hapsim::service {
 
-FramePump::FramePump(const SessionRegistry* registry, ViewerHub* hub, double poll_period_s)
-    : registry_(registry), hub_(hub), poll_period_s_(poll_period_s) {}
+FramePump::FramePump(const SessionRegistry* registry, ViewerHub* hub, TrialBook* trials, double poll_period_s)
+    : registry_(registry), hub_(hub), trials_(trials), poll_period_s_(poll_period_s) {}
 
 FramePump::~FramePump() { Stop(); }
 
@@ -29,7 +29,9 @@ void FramePump::Stop() {
 
 void FramePump::PumpOnce() {
   // The copy-on-write table: never the registry mutex a slow Create may hold.
-  hub_->Pump(*registry_->Table(), common::SteadyNowNs());
+  const auto table = registry_->Table();
+  hub_->Pump(*table, common::SteadyNowNs());
+  if (trials_) trials_->Observe(*table);
 }
 
 }  // namespace hapsim::service

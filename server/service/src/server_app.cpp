@@ -53,9 +53,9 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
   spdlog::info("tick pool: {} workers", pool_->workers());
   registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get(), &viewers_);
-  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_);
+  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_, &trials_);
   session_service_ =
-      std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id);
+      std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_);
   viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m, &policy_);
 
   grpc::EnableDefaultHealthCheckService(true);
@@ -88,7 +88,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
     for (const auto& warning : o.classes->warnings) spdlog::warn("class config: {}", warning);
     try {
       for (const auto& cls : o.classes->classes) {
-        for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {});
+        for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {}, cls.targets);
         spdlog::info("class '{}': {} sessions", cls.name, cls.sessions.size());
       }
     } catch (const std::exception& e) {

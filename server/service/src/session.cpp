@@ -31,6 +31,7 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
       scene_(std::move(scene)),
       port_(std::move(port)),
       ownership_(pose_timeout_ns_),
+      trial_(config_.targets),
       snapshots_(scene_ ? SnapshotRing::Sizes{static_cast<std::size_t>(scene_->Vertices_m().cols()),
                                               scene_->Topology().Triangles().Capacity(), kRecentEvents,
                                               scene_->Topology().Log().Capacity()}
@@ -78,7 +79,9 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
   const TickInput in = AssembleInput(now_ns);
   if (tick_observer_) tick_observer_(in);
+  if (in.reset) finished_trial_outbox_.Publish(trial_.StartNext());  // a reset ends the trial
   StepScene(*scene_, in, config_.tick_period_s);
+  RecordTrial(in);
   counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns)),
                                    std::memory_order_relaxed);
   RecordTiming(in, due_ns, now_ns);
@@ -137,6 +140,25 @@ void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_
   AtomicMax(counters_.peak_tool_force_N, scene_->ToolForce_W_N().norm());
 }
 
+void Session::RecordTrial(const TickInput& in) {
+  TrialTick t;
+  t.sim_time_s = scene_->SimTime_s();
+  t.force_N = scene_->ToolForce_W_N().norm();
+  t.current_layer = scene_->Status().current_layer;
+  t.tip_depth_m = scene_->Status().tip_depth_m;
+  t.contact = scene_->ForceModel().state;
+  t.tip_W_m = in.tool.tip_W_m;
+  t.tool_present = in.tool.valid && !in.paused;
+  // The events logged since the previous tick (as many as the scene still holds).
+  const auto events = scene_->Events();
+  const std::uint64_t total = scene_->EventsTotal();
+  const std::size_t fresh = static_cast<std::size_t>(
+      std::min<std::uint64_t>(total > events_seen_ ? total - events_seen_ : 0, events.size()));
+  t.new_events = std::span<const core::SceneEvent>(events.data() + (events.size() - fresh), fresh);
+  events_seen_ = total;
+  trial_.OnTick(t);
+}
+
 void Session::PublishForceModel(const TickInput& in) {
   ForceModelMessage& m = force_message_;
   m.device_id = in.device_id;
@@ -173,6 +195,7 @@ void Session::PublishSnapshot(const TickInput& in) {
   s->recent_events.assign(events.begin() + static_cast<std::ptrdiff_t>(first), events.end());
   s->events_total = scene_->EventsTotal();
   snapshot_outbox_.Publish(std::move(s));
+  trial_outbox_.Publish(trial_.stats());
 }
 
 }  // namespace hapsim::service

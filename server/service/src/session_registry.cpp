@@ -27,7 +27,7 @@ void SessionRegistry::PublishTableLocked() {
 }
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
-                                                 std::map<std::string, double> params) {
+                                                 std::map<std::string, double> params, TrialTargets targets) {
   // 1. Reserve the id (brief lock).
   {
     std::lock_guard lock(mutex_);
@@ -64,6 +64,7 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     config.frame_rate_hz = defaults_.frame_rate_hz;
     config.pose_timeout_s = defaults_.pose_timeout_s;
     config.pose_slack_s = defaults_.pose_slack_s;
+    config.targets = targets;
     auto built = BuildSceneAtLowPriority({config.scene, config.params});
     auto port = transport_->Open(config.id);
     session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));

@@ -1,7 +1,9 @@
 #include "hapsim/service/session_service.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include <spdlog/spdlog.h>
 
@@ -62,9 +64,9 @@ std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc
 }
 
 SessionServiceImpl::SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
-                                       const AccessPolicy* policy, std::uint32_t dds_domain)
+                                       const AccessPolicy* policy, std::uint32_t dds_domain, const TrialBook* trials)
     : registry_(registry), hub_(hub), scores_(scores), policy_(policy ? policy : &OpenPolicy()),
-      dds_domain_(dds_domain) {}
+      dds_domain_(dds_domain), trials_(trials) {}
 
 std::optional<Principal> SessionServiceImpl::Caller(const grpc::ServerContext* context) const {
   return AuthenticateCall(*policy_, context);
@@ -142,7 +144,9 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
       }
       params.emplace(key, value);
     }
-    created = registry_->Create(req->session_id(), req->scene(), std::move(owner), std::move(params));
+    const ClassDef* cls = policy_->ClassOf(req->session_id());
+    created = registry_->Create(req->session_id(), req->scene(), std::move(owner), std::move(params),
+                                cls ? cls->targets : TrialTargets{});
   });
   if (!status.ok()) return status;
   // The build yields the CPU to ticks, so on a saturated server it can
@@ -341,6 +345,28 @@ Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim
   return result;
 }
 
+Status SessionServiceImpl::GetTrials(grpc::ServerContext* context, const hapsim::v1::TrialQuery* req,
+                                     hapsim::v1::TrialReport* out) {
+  return Guarded("GetTrials", [&] {
+    const auto who = Caller(context);
+    if (policy_->enabled()) policy_->Authorize(who, Action::kWatchClass, req->class_name());
+    std::vector<std::string> storage;
+    const std::vector<std::string>* ids = ClassSessions(req->class_name(), &storage);
+    if (!trials_) throw ServiceError(ErrorCode::kFailedPrecondition, "this server keeps no trial metrics");
+    const auto rows = trials_->Trials([&](const std::string& id) {
+      return !ids || std::find(ids->begin(), ids->end(), id) != ids->end();
+    });
+    out->set_trials(static_cast<std::uint32_t>(rows.size()));
+    out->set_csv(FormatTrialsCsv(rows, [&](const std::string& id) -> std::string {
+      const auto score = scores_->SummaryOf(id);
+      if (!score) return "";
+      char text[32];
+      std::snprintf(text, sizeof text, "%.4f", score->score);
+      return text;
+    }));
+  });
+}
+
 void SessionServiceImpl::Stop() {
   std::lock_guard lock(watch_mutex_);
   stopping_ = true;
@@ -388,7 +414,9 @@ Status SessionServiceImpl::PushScenario(grpc::ServerContext* context, const haps
           if (s.id == id) owner = s.trainee;
         }
       }
-      DescribeSession(*registry_->Create(id, spec.name, owner, spec.params), out->add_sessions());
+      const ClassDef* cls = policy_->ClassOf(id);
+      DescribeSession(*registry_->Create(id, spec.name, owner, spec.params, cls ? cls->targets : TrialTargets{}),
+                      out->add_sessions());
     }
     spdlog::info("{} pushed scene '{}' to {} sessions of class '{}'", who ? who->name : "a development client",
                  spec.name, ids->size(), req->class_name());

@@ -5,6 +5,8 @@
 //
 //   [[class]]
 //   name = "acu-101"
+//   target_depth_m = 0.012     # optional: acupuncture target needle depth
+//   target_line_m = [-0.01, 0, 0.01, 0]   # optional: cutting target line x0, y0, x1, y1
 //   [[class.session]]
 //   id = "t1"                 # session id, unique across classes
 //   scene = "acupuncture"     # default "tissue_block"
@@ -23,6 +25,8 @@
 #include <string_view>
 #include <vector>
 
+#include "hapsim/service/trial_tracker.h"
+
 namespace hapsim::service {
 
 enum class Role { kInstructor, kTrainee, kObserver };
@@ -37,6 +41,7 @@ struct ClassSession {
 struct ClassDef {
   std::string name;
   std::vector<ClassSession> sessions;
+  TrialTargets targets;  // target_depth_m, target_line_m: what its trials are measured against
   bool Has(std::string_view session_id) const;
 };
 

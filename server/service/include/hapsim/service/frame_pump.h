@@ -7,13 +7,16 @@
 #include <thread>
 
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/trial_book.h"
 #include "hapsim/service/viewer_hub.h"
 
 namespace hapsim::service {
 
 class FramePump {
  public:
-  FramePump(const SessionRegistry* registry, ViewerHub* hub, double poll_period_s = 0.002);
+  // trials (may be null): fed each pass with the sessions' trial metrics.
+  FramePump(const SessionRegistry* registry, ViewerHub* hub, TrialBook* trials = nullptr,
+            double poll_period_s = 0.002);
   ~FramePump();
   void Start();
   void Stop();
@@ -23,6 +26,7 @@ class FramePump {
  private:
   const SessionRegistry* registry_;
   ViewerHub* hub_;
+  TrialBook* trials_;
   double poll_period_s_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

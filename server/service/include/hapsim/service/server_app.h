@@ -53,6 +53,7 @@ class ServerApp {
   const ServerDds& dds() const { return *dds_; }
   const TickPool& pool() const { return *pool_; }
   const AccessPolicy& policy() const { return policy_; }
+  const TrialBook& trials() const { return trials_; }
   int bound_port() const { return bound_port_; }
   int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
@@ -65,6 +66,7 @@ class ServerApp {
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;
   ScoreBook scores_;
+  TrialBook trials_;
   AccessPolicy policy_;
   GrpcCallCounter grpc_calls_;  // outlives the gRPC server that calls into it
   std::unique_ptr<SessionServiceImpl> session_service_;

@@ -31,6 +31,7 @@
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/snapshot_ring.h"
 #include "hapsim/service/tick_input.h"
+#include "hapsim/service/trial_tracker.h"
 #include "hapsim/service/tick_pool.h"
 
 namespace hapsim::service {
@@ -46,6 +47,7 @@ struct SessionConfig {
   // A streaming device's next pose may be this late before the session ticks
   // on its own deadline instead (with the previous pose).
   double pose_slack_s = 0.0005;
+  TrialTargets targets;  // what its trials are measured against (class config)
 };
 
 // A pose accepted by the DDS thread.
@@ -118,6 +120,11 @@ class Session : public TickTask {
   // Frame pump only. After taking a snapshot's topology edits, the pump says
   // up to which version it has them, so later snapshots carry only newer ones.
   bool TakeSnapshot(std::shared_ptr<const SceneSnapshot>* out) { return snapshot_outbox_.TakeIfNew(out); }
+  // Frame pump only (the TrialBook): the running trial's metrics (published
+  // with every snapshot) and the last trial a reset ended.
+  bool TakeTrialUpdate(TrialStats* out) { return trial_outbox_.TakeIfNew(out); }
+  bool TakeFinishedTrial(TrialStats* out) { return finished_trial_outbox_.TakeIfNew(out); }
+  const std::vector<std::string>& layer_names() const { return *layer_names_; }
   void MarkTopologyTaken(std::uint64_t version) { topology_taken_.store(version, std::memory_order_release); }
 
   // Any thread.
@@ -128,6 +135,7 @@ class Session : public TickTask {
   TickInput AssembleInput(std::int64_t now_ns);
   std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
   void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns);
+  void RecordTrial(const TickInput& in);
   void PublishForceModel(const TickInput& in);
   void PublishSnapshot(const TickInput& in);
 
@@ -145,6 +153,8 @@ class Session : public TickTask {
 
   common::LatestValue<PoseSample> pose_inbox_;
   common::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
+  common::LatestValue<TrialStats> trial_outbox_;
+  common::LatestValue<TrialStats> finished_trial_outbox_;
   std::atomic<bool> paused_{false};
   std::atomic<std::uint32_t> reset_requests_{0};
   std::atomic<std::int64_t> last_tick_start_ns_{0};  // written by the tick, read by the DDS thread
@@ -158,6 +168,8 @@ class Session : public TickTask {
   std::uint32_t resets_seen_ = 0;
   std::uint64_t ticks_per_frame_ = 16;
   ForceModelMessage force_message_;
+  TrialTracker trial_;
+  std::uint64_t events_seen_ = 0;
   SnapshotRing snapshots_;
   std::shared_ptr<const std::vector<std::string>> part_names_;   // fixed at build
   std::shared_ptr<const std::vector<std::string>> layer_names_;  // fixed at build

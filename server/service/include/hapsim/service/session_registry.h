@@ -58,7 +58,7 @@ class SessionRegistry {
   // kInvalidArgument (bad id, unknown scene, bad parameter), kAlreadyExists
   // (also while a session of that id is being built), kResourceExhausted.
   std::shared_ptr<Session> Create(std::string id, std::string scene, std::string owner,
-                                  std::map<std::string, double> params);
+                                  std::map<std::string, double> params, TrialTargets targets = {});
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
   // Stops the session's ticks and poses, then tells the listener. Throws kNotFound.

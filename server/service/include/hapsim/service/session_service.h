@@ -10,6 +10,7 @@
 
 #include "hapsim/service/access_policy.h"
 #include "hapsim/service/score_book.h"
+#include "hapsim/service/trial_book.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/viewer_hub.h"
 #include "hapsim/v1/session.grpc.pb.h"
@@ -21,7 +22,8 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   // policy: nullptr = development mode (no tokens). dds_domain: what
   // JoinSession tells devices.
   SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
-                     const AccessPolicy* policy = nullptr, std::uint32_t dds_domain = 0);
+                     const AccessPolicy* policy = nullptr, std::uint32_t dds_domain = 0,
+                     const TrialBook* trials = nullptr);
 
   // Ends every WatchClass stream (OK status) and refuses new ones; called
   // before the gRPC server shuts down so no handler thread outlives it.
@@ -49,6 +51,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
                           grpc::ServerWriter<hapsim::v1::ClassStatus>*) override;
   grpc::Status PushScenario(grpc::ServerContext*, const hapsim::v1::PushScenarioRequest*,
                             hapsim::v1::PushScenarioResponse*) override;
+  grpc::Status GetTrials(grpc::ServerContext*, const hapsim::v1::TrialQuery*, hapsim::v1::TrialReport*) override;
 
   static constexpr double kDefaultWatchRateHz = 10.0;
   static constexpr double kMaxWatchRateHz = 50.0;
@@ -64,6 +67,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   ScoreBook* scores_;
   const AccessPolicy* policy_;
   std::uint32_t dds_domain_;
+  const TrialBook* trials_;
   std::mutex watch_mutex_;
   std::condition_variable watch_wake_;
   bool stopping_ = false;
