@@ -41,7 +41,8 @@ struct Server {
   service::ViewerHub hub;
   service::SessionRegistry registry{service::SessionDefaults{.max_sessions = kMaxSessions}, &pool, &transport, &hub};
   service::ScoreBook scores;
-  service::SessionServiceImpl api{&registry, &hub, &scores};
+  service::TrialBook trials;
+  service::SessionServiceImpl api{&registry, &hub, &scores, nullptr, 0, &trials};
 };
 
 Server& TheServer() {
@@ -80,6 +81,12 @@ void WriteSeeds(const std::string& dir) {
   write(9, scores);
   v1::ScoreQuery query;
   write(10, query);
+  write(11, ref);  // JoinSession
+  v1::PushScenarioRequest push;
+  push.set_scene("tissue_block");
+  (*push.mutable_params())["grid_nodes"] = 5;
+  write(12, push);
+  write(13, v1::TrialQuery());
   write(0, v1::ListScenesRequest());
 }
 
@@ -100,7 +107,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* body = data + 1;
   const std::size_t n = size - 1;
   try {
-    switch (data[0] % 11) {
+    switch (data[0] % 14) {
       case 0: Invoke<v1::ListScenesRequest, v1::ListScenesResponse>(&S::ListScenes, body, n); break;
       case 1: Invoke<v1::CreateSessionRequest, v1::SessionInfo>(&S::CreateSession, body, n); break;
       case 2: Invoke<v1::ListSessionsRequest, v1::ListSessionsResponse>(&S::ListSessions, body, n); break;
@@ -111,7 +118,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 7: Invoke<v1::SessionRef, v1::SessionInfo>(&S::ResetSession, body, n); break;
       case 8: Invoke<v1::SessionRef, v1::MeshSnapshot>(&S::GetSnapshot, body, n); break;
       case 9: Invoke<v1::SubmitScoresRequest, v1::ScoreReport>(&S::SubmitScores, body, n); break;
-      default: Invoke<v1::ScoreQuery, v1::ScoreReport>(&S::GetScores, body, n); break;
+      case 10: Invoke<v1::ScoreQuery, v1::ScoreReport>(&S::GetScores, body, n); break;
+      case 11: Invoke<v1::SessionRef, v1::JoinSessionResponse>(&S::JoinSession, body, n); break;
+      case 12: Invoke<v1::PushScenarioRequest, v1::PushScenarioResponse>(&S::PushScenario, body, n); break;
+      default: Invoke<v1::TrialQuery, v1::TrialReport>(&S::GetTrials, body, n); break;
     }
   } catch (...) {
     std::abort();  // a handler let an exception out: the gRPC thread would die
