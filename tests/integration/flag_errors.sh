@@ -39,5 +39,21 @@ expect 2 "--session must be within \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-bridge" -
 expect 2 "is not \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-load" --sessions "a b"
 expect 2 "--params wants KEY=NUMBER" "$bin/hapsim-load" --create tissue_block --params stiffness
 expect 2 "unknown backend 'phantom'" "$bin/hapsim-bridge" --backend phantom
+# Classroom (issue 13): a broken class config or TLS setup stops the server at
+# start, naming the file and place; clients name unreadable token/TLS files.
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+printf '[[class]]\nname = "c"\n[[class.session]]\nid = "t1"\ncolour = "red"\n' >"$tmp/typo.toml"
+printf '[[class]\nname = "c"\n' >"$tmp/syntax.toml"
+expect 2 "bad --class-config: $tmp/typo.toml:5:10: unknown key 'colour'" "$bin/hapsim-server" --listen 127.0.0.1:0 \
+    --class-config "$tmp/typo.toml"
+expect 2 "bad --class-config: $tmp/syntax.toml:1:" "$bin/hapsim-server" --listen 127.0.0.1:0 --class-config "$tmp/syntax.toml"
+expect 2 "cannot read the class config" "$bin/hapsim-server" --listen 127.0.0.1:0 --class-config "$tmp/none.toml"
+expect 1 "cannot read TLS key" "$bin/hapsim-server" --listen 127.0.0.1:0 --tls-cert "$tmp/none.pem" \
+    --tls-key "$tmp/none.key"
+expect 1 "TLS needs both a certificate and its key" "$bin/hapsim-server" --listen 127.0.0.1:0 --tls-cert "$tmp/x.pem"
+expect 2 "cannot read token file" "$bin/hapsim-ctl" --server 127.0.0.1:9 --token-file "$tmp/none.token" list
+expect 2 "cannot read TLS CA" "$bin/hapsim-ctl" --server 127.0.0.1:9 --tls-ca "$tmp/none.pem" list
+expect 2 "needs TLS: give --tls-ca too" "$bin/hapsim-viewer" --session s --tls-cert "$tmp/c.pem" --tls-key "$tmp/c.key"
+expect 2 "--count wants a whole number" "$bin/hapsim-ctl" --server 127.0.0.1:9 watch c --count 0
 echo "$failures failed"
 [ "$failures" -eq 0 ]
