@@ -19,6 +19,7 @@
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/viewer/connection.h"
 #include "hapsim/viewer/mesh_cache.h"
+#include "hapsim/viewer/mesh_export.h"
 #include "hapsim/viewer/session_client.h"
 
 namespace {
@@ -34,7 +35,9 @@ constexpr const char* kUsage =
     "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
     "                                      create a session (prints its id)\n"
     "  info ID | close ID | pause ID | resume ID | reset ID\n"
-    "  snapshot ID --obj FILE              write the session's current mesh (full precision) as OBJ\n"
+    "  snapshot ID --obj FILE | --export FILE\n"
+    "                                      write the session's current mesh (full precision): OBJ, or by\n"
+    "                                      extension .obj, .gltf/.glb (glTF 2.0), .vtk (legacy VTK)\n"
     "  score ID --indicators a,b,c,d,e,f,g [--expert NAME]\n"
     "                                      submit 7 indicator scores (0..10) for a session\n"
     "  scores [ID]                         comprehensive scores of one session or the whole class\n"
@@ -69,13 +72,14 @@ void PrintInfo(const hapsim::v1::SessionInfo& i) {
 }
 
 void PrintScores(const hapsim::v1::ScoreReport& r) {
-  std::printf("weights (mu=%.2f): combined", r.mu());
-  for (const double w : r.combined_weights()) std::printf(" %.4f", w);
-  std::printf("\n");
+  // Each session is scored by its own scheme and raters (docs/classroom.md#assessment).
   for (const auto& s : r.sessions()) {
-    std::printf("%s experts=%u score=%.4f\n", s.session_id().c_str(), s.experts(), s.comprehensive_score());
+    std::printf("%s experts=%u score=%.4f scheme=%s weights", s.session_id().c_str(), s.experts(),
+                s.comprehensive_score(), s.scheme().c_str());
+    for (const double w : s.combined_weights()) std::printf(" %.4f", w);
+    std::printf("\n");
   }
-  std::printf("class mean score %.4f\n", r.class_mean_score());
+  std::printf("class mean score %.4f (%d sessions scored)\n", r.class_mean_score(), r.sessions_size());
 }
 
 bool ParseIndicators(const std::string& text, hapsim::v1::SubmitScoresRequest* req) {
@@ -207,7 +211,7 @@ int main(int argc, char** argv) {
   // value: a typo is an error, never a silent default.
   const std::map<std::string, std::set<std::string>> options_of = {
       {"create", {"--id", "--scene", "--owner", "--param"}},
-      {"snapshot", {"--obj"}},
+      {"snapshot", {"--obj", "--export"}},
       {"score", {"--indicators", "--expert"}},
       {"watch", {"--rate-hz", "--count"}},
       {"push", {"--scene", "--param"}},
@@ -335,8 +339,9 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "snapshot") {
-    const std::string obj = option("--obj");
-    if (id.empty() || obj.empty()) { std::fprintf(stderr, "hapsim-ctl: snapshot ID --obj FILE\n"); return 2; }
+    const bool as_obj = !option("--obj").empty();  // --obj FILE: OBJ whatever the extension
+    const std::string obj = as_obj ? option("--obj") : option("--export");
+    if (id.empty() || obj.empty()) { std::fprintf(stderr, "hapsim-ctl: snapshot ID --obj FILE | --export FILE\n"); return 2; }
     hapsim::v1::MeshSnapshot snap;
     const auto s = stub->GetSnapshot(&ctx, ref, &snap);
     if (!s.ok()) return Fail(s);
@@ -346,8 +351,17 @@ int main(int argc, char** argv) {
     for (const auto p : snap.triangle_parts()) mesh.triangle_parts.push_back(static_cast<std::uint16_t>(p));
     mesh.part_names.assign(snap.part_names().begin(), snap.part_names().end());
     if (mesh.triangle_parts.size() * 3 != mesh.triangles.size()) mesh.part_names.clear();  // an older server: one group
-    if (!hapsim::viewer::WriteObj(obj, mesh, "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s()))) {
-      std::fprintf(stderr, "hapsim-ctl: cannot write %s\n", obj.c_str());
+    std::string error;
+    const std::string comment = "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s());
+    bool written;
+    if (as_obj) {
+      written = hapsim::viewer::WriteObj(obj, mesh, comment);
+      if (!written) error = "cannot write " + obj;
+    } else {
+      written = hapsim::viewer::WriteMeshFile(obj, mesh, comment, &error);
+    }
+    if (!written) {
+      std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
       return 1;
     }
     std::printf("wrote %s: %d vertices, %d triangles, sim time %.3f s\n", obj.c_str(), snap.positions_m_size() / 3,

@@ -11,10 +11,11 @@
 
 #include "hapsim/common/flags.h"
 #include "hapsim/common/logging.h"
+#include "hapsim/viewer/mesh_export.h"
 #include "hapsim/viewer/viewer_client.h"
 
 int main(int argc, char** argv) {
-  std::string obj_path, log_level = "info";
+  std::string obj_path, export_path, log_level = "info";
   hapsim::viewer::Connection connection;
   hapsim::viewer::ConnectionFlags connection_flags;
   hapsim::viewer::ViewerOptions options;
@@ -34,6 +35,8 @@ int main(int argc, char** argv) {
   flags.Add("ack-window", &ack_window, "frames the server may send ahead of this viewer's acks (0: no limit)");
   flags.Add("connect-timeout-s", &options.connect_timeout_s, "give up if the server is not reachable by then [s]");
   flags.Add("obj", &obj_path, "write the final mesh here as Wavefront OBJ (metres)");
+  flags.Add("export", &export_path,
+            "write the final mesh here too, format by extension: .obj, .gltf/.glb (glTF 2.0), .vtk (legacy VTK)");
   flags.Add("debug-drop-seq", &drop_seq, "test only: treat the frame with this seq as lost (forces a resync)");
   flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
   std::string error;
@@ -121,13 +124,16 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(s.topology_frames), list.empty() ? " none" : list.c_str());
   }
   std::fflush(stdout);
-  if (!obj_path.empty() && mesh.has_mesh()) {
-    const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +
-                                ", quantum " + std::to_string(mesh.quantum_m()) + " m";
-    if (!hapsim::viewer::WriteObj(obj_path, mesh.Compact(), comment)) {
-      std::fprintf(stderr, "hapsim-viewer: cannot write %s\n", obj_path.c_str());
-      return 1;
-    }
+  const std::string comment = "hapsim session " + options.session + ", seq " + std::to_string(mesh.last_seq()) +
+                              ", quantum " + std::to_string(mesh.quantum_m()) + " m";
+  if (!obj_path.empty() && mesh.has_mesh() && !hapsim::viewer::WriteObj(obj_path, mesh.Compact(), comment)) {
+    std::fprintf(stderr, "hapsim-viewer: cannot write %s\n", obj_path.c_str());
+    return 1;
+  }
+  if (!export_path.empty() && mesh.has_mesh() &&
+      !hapsim::viewer::WriteMeshFile(export_path, mesh.Compact(), comment, &error)) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str());
+    return 1;
   }
   if (!ok) {
     std::fprintf(stderr, "hapsim-viewer: %s\n", s.final_status.c_str());

@@ -11,7 +11,7 @@
 #   hapsim::service   core, common, dds, proto, gRPC, toml++ and OpenSSL's
 #                     crypto (class config, token hashes) — the server
 #   hapsim::bridge    core (force-model law), common, dds — no gRPC at all
-#   hapsim::viewer    common, proto, gRPC client — no physics, no DDS
+#   hapsim::viewer    common, proto, gRPC client, tinygltf (export) — no physics, no DDS
 #   executables       their library; hapsim-load adds the viewer's gRPC
 #                     client (to create sessions) but never the server's
 #                     service library; hapsim-validate core + io.
@@ -46,7 +46,7 @@ set(_core hapsim_core Eigen3::Eigen)
 set(_common hapsim_common spdlog::spdlog)
 set(_dds hapsim_dds hapsim_dds_types CycloneDDS::ddsc ${_common})
 set(_proto hapsim_proto protobuf::libprotobuf gRPC::grpc++ gRPC::grpc)
-set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen)
+set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen TinyGLTF::TinyGLTF)
 set(_bridge hapsim_bridge ${_core} ${_dds})
 hapsim_layer_allows(hapsim_core Eigen3::Eigen)
 hapsim_layer_allows(hapsim_io ${_core})

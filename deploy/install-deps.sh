@@ -8,7 +8,7 @@ packages=(
   libprotobuf-dev protobuf-compiler libgrpc++-dev protobuf-compiler-grpc
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  libtomlplusplus-dev libssl-dev openssl
+  libtomlplusplus-dev libssl-dev openssl libtinygltf-dev
   python3 python3-scipy python3-numpy python3-grpcio
   clang libfuzzer-14-dev
 )

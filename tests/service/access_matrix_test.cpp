@@ -183,6 +183,14 @@ class AccessMatrixTest : public ::testing::Test {
         return StatusCode::OK;
       }
       s = reader->Finish();
+    } else if (rpc == "GetTrials") {
+      v1::TrialQuery q;
+      q.set_class_name(kClassTargets[target]);
+      v1::TrialReport r;
+      s = sessions_->GetTrials(&ctx, q, &r);
+      if (s.ok()) {
+        EXPECT_GE(r.trials(), 2u);  // at least the running trials of t1 and t2
+      }
     } else if (rpc == "PushScenario") {
       v1::PushScenarioRequest req;
       req.set_class_name(kClassTargets[target]);
@@ -224,7 +232,7 @@ StatusCode Expected(const std::string& rpc, Caller who, int target) {
   if (rpc == "JoinSession") {
     return allow(who == Caller::kTrainee ? own : who == Caller::kInstructor && in_class);
   }
-  if (rpc == "WatchClass") return allow(who != Caller::kTrainee && in_class);
+  if (rpc == "WatchClass" || rpc == "GetTrials") return allow(who != Caller::kTrainee && in_class);
   // Create, Close, Pause, Resume, Reset, SubmitScores, PushScenario
   return allow(who == Caller::kInstructor && in_class);
 }
@@ -236,7 +244,7 @@ TEST_F(AccessMatrixTest, EveryRpcRoleAndTargetGetsThePromisedStatus) {
   const std::vector<std::string> rpcs = {
       "ListScenes",   "ListSessions", "GetSession",   "CreateSession", "CloseSession", "PauseSession",
       "ResumeSession", "ResetSession", "GetSnapshot", "SubmitScores",  "GetScores",    "JoinSession",
-      "WatchClass",   "PushScenario", "Subscribe"};
+      "WatchClass",   "GetTrials",    "PushScenario", "Subscribe"};
   int checked = 0, wrong = 0;
   std::printf("%-14s", "rpc \\ caller");
   for (const char* c : kCallerNames) std::printf(" | %-26s", c);
@@ -267,7 +275,7 @@ TEST_F(AccessMatrixTest, EveryRpcRoleAndTargetGetsThePromisedStatus) {
     std::printf("\n");
   }
   std::printf("%d cells checked, %d wrong\n", checked, wrong);
-  EXPECT_EQ(checked, 15 * 5 * 3);
+  EXPECT_EQ(checked, 16 * 5 * 3);
   // Every refusal was counted for /metrics.
   EXPECT_GT(app_->policy().counters().unauthenticated.load(), 0u);
   EXPECT_GT(app_->policy().counters().permission_denied.load(), 0u);

@@ -8,11 +8,11 @@
 #include "hapsim/common/clock.h"
 #include "hapsim/dds/partition.h"
 #include "hapsim/dds/topics.h"
+#include "hapsim/service/pose_router.h"
 
 namespace hapsim::service {
 
 namespace {
-constexpr std::int64_t kWarningIntervalNs = 2'000'000'000;  // rate-limit bad-input warnings
 
 void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
   out.device_id = in.device_id;
@@ -117,11 +117,6 @@ void ServerDds::OnReader(dds_attach_t tag) {
   RoutePoses(*session, static_cast<Port&>(session->port()));
 }
 
-bool ServerDds::WarningDue(std::int64_t now_ns) {
-  if (now_ns - last_warning_ns_ <= kWarningIntervalNs) return false;
-  last_warning_ns_ = now_ns;
-  return true;
-}
 
 void ServerDds::RoutePoses(Session& session, Port& port) {
   std::array<hapsim_dds_StylusPose, 64> batch;
@@ -129,51 +124,9 @@ void ServerDds::RoutePoses(Session& session, Port& port) {
     const std::size_t n = port.pose_reader().Take(batch);
     if (n == 0) return;
     const std::int64_t now = common::SteadyNowNs();
-    bool offered = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto& sample = batch[i];
-      PoseRejection why = PoseRejection::kNone;
-      const auto tool = FilterPose(sample, limits_, &why);
-      if (!tool) {
-        counters_.poses_rejected.fetch_add(1);
-        session.counters().poses_rejected.fetch_add(1);
-        if (WarningDue(now)) {
-          spdlog::warn("dropped a pose from device {} (session '{}'): {}", sample.device_id, session.id(),
-                       ToString(why));
-        }
-        continue;
-      }
-      if (SessionIdOf(sample.session) != session.id()) {
-        counters_.poses_wrong_session.fetch_add(1);
-        session.counters().poses_wrong_session.fetch_add(1);
-        if (WarningDue(now)) {
-          spdlog::warn("pose from device {} naming session '{}' arrived in the partition of session '{}': dropped",
-                       sample.device_id, SessionIdOf(sample.session), session.id());
-        }
-        continue;
-      }
-      const PoseVerdict verdict = session.OfferPose(PoseSample{*tool, sample.device_id, sample.seq, now});
-      if (verdict == PoseVerdict::kOtherDevice) {
-        counters_.poses_other_device.fetch_add(1);
-        if (WarningDue(now)) {
-          spdlog::warn("pose from device {} for session '{}' dropped: device {} drives it", sample.device_id,
-                       session.id(), session.counters().owning_device_id.load());
-        }
-        continue;
-      }
-      if (verdict == PoseVerdict::kStale) {
-        counters_.poses_stale.fetch_add(1);
-        if (WarningDue(now)) {
-          spdlog::warn("pose seq {} from device {} for session '{}' dropped as stale (duplicate, reordered, or a "
-                       "second bridge with the same device id)",
-                       sample.seq, sample.device_id, session.id());
-        }
-        continue;
-      }
-      counters_.poses_accepted.fetch_add(1);
-      offered = true;
+    if (RoutePoseBatch(session, std::span(batch.data(), n), limits_, now, &counters_, &warnings_)) {
+      pool_->Wake(&session, session.PoseDueNs(now));
     }
-    if (offered) pool_->Wake(&session, session.PoseDueNs(now));
     if (n < batch.size()) return;
   }
 }

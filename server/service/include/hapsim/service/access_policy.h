@@ -11,7 +11,7 @@
 //   control         class sessions      no               no               (pause, resume, reset)
 //   create / close  class sessions      no               no
 //   score           class sessions      no               no
-//   watch class     its class           no               its class
+//   watch class     its class           no               its class        (WatchClass, GetTrials)
 //   push scenario   its class           no               no
 //
 // Without a class config (development mode) every caller may do everything;

@@ -23,6 +23,7 @@
 #include "hapsim/dds/dds.h"
 #include "hapsim/dds/io_thread.h"
 #include "hapsim/service/pose_filter.h"
+#include "hapsim/service/warning_limiter.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/session_registry.h"
 
@@ -56,15 +57,14 @@ class ServerDds : public SessionTransport {
   class Port;
   void RefreshIndex();
   void OnReader(dds_attach_t tag);
-  void RoutePoses(Session& session, Port& port);
-  bool WarningDue(std::int64_t now_ns);  // rate-limits bad-input warnings (I/O thread)
+  void RoutePoses(Session& session, Port& port);  // each batch through RoutePoseBatch (pose_router.h)
 
   hapsim::dds::Participant participant_;
   PoseLimits limits_;
   SessionRegistry* registry_ = nullptr;
   TickPool* pool_ = nullptr;
   ServerDdsCounters counters_;
-  std::int64_t last_warning_ns_ = 0;
+  WarningLimiter warnings_;  // I/O thread
   // I/O thread only: the table the tags are checked against, and its
   // sessions sorted by address.
   std::shared_ptr<const SessionTable> table_;
