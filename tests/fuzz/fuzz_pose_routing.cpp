@@ -16,6 +16,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "fuzz_setup.h"
+
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/service/pose_router.h"
 
@@ -72,11 +74,7 @@ void WriteSeeds(const std::string& dir) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  spdlog::set_level(spdlog::level::off);
-  if (const char* dir = std::getenv("HAPSIM_FUZZ_WRITE_SEEDS")) {
-    WriteSeeds(dir);
-    std::exit(0);
-  }
+  hapsim::fuzz::SetUpServiceFuzzer(&WriteSeeds);
   return 0;
 }
 

@@ -14,6 +14,8 @@
 #include <grpcpp/server_context.h>
 #include <spdlog/spdlog.h>
 
+#include "fuzz_setup.h"
+
 #include "hapsim/service/score_book.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/session_service.h"
@@ -93,11 +95,7 @@ void WriteSeeds(const std::string& dir) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  spdlog::set_level(spdlog::level::off);  // thousands of sessions: their log lines would drown the fuzzer's
-  if (const char* dir = std::getenv("HAPSIM_FUZZ_WRITE_SEEDS")) {
-    WriteSeeds(dir);
-    std::exit(0);
-  }
+  hapsim::fuzz::SetUpServiceFuzzer(&WriteSeeds);
   return 0;
 }
 
