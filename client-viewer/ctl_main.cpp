@@ -82,6 +82,19 @@ void PrintScores(const hapsim::v1::ScoreReport& r) {
   std::printf("class mean score %.4f (%d sessions scored)\n", r.class_mean_score(), r.sessions_size());
 }
 
+// Every "--param KEY=NUMBER" after the command into *params; false (with
+// the message printed) on a malformed one.
+bool AddParamOptions(const std::vector<std::string>& args, google::protobuf::Map<std::string, double>* params) {
+  for (std::size_t i = 1; i + 1 < args.size(); ++i) {
+    if (args[i] != "--param") continue;
+    if (!hapsim::viewer::AddSceneParam(args[i + 1], params)) {
+      std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
+      return false;
+    }
+  }
+  return true;
+}
+
 bool ParseIndicators(const std::string& text, hapsim::v1::SubmitScoresRequest* req) {
   std::stringstream in(text);
   std::string item;
@@ -302,13 +315,7 @@ int main(int argc, char** argv) {
     req.set_session_id(option("--id"));
     req.set_scene(option("--scene"));
     req.set_owner(option("--owner"));
-    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
-      if (args[i] != "--param") continue;
-      if (!hapsim::viewer::AddSceneParam(args[i + 1], req.mutable_params())) {
-        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
-        return 2;
-      }
-    }
+    if (!AddParamOptions(args, req.mutable_params())) return 2;
     hapsim::v1::SessionInfo info;
     const auto s = stub->CreateSession(&ctx, req, &info);
     if (!s.ok()) return Fail(s);
@@ -425,13 +432,7 @@ int main(int argc, char** argv) {
     hapsim::v1::PushScenarioRequest req;
     req.set_class_name(id);
     req.set_scene(option("--scene"));
-    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
-      if (args[i] != "--param") continue;
-      if (!hapsim::viewer::AddSceneParam(args[i + 1], req.mutable_params())) {
-        std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
-        return 2;
-      }
-    }
+    if (!AddParamOptions(args, req.mutable_params())) return 2;
     hapsim::v1::PushScenarioResponse r;
     const auto s = stub->PushScenario(&ctx, req, &r);
     if (!s.ok()) return Fail(s);

@@ -23,8 +23,10 @@ const char* RoleName(Role role) {
   return "?";
 }
 
-bool ClassDef::Has(std::string_view session_id) const {
-  return std::any_of(sessions.begin(), sessions.end(), [&](const ClassSession& s) { return s.id == session_id; });
+const ClassSession* ClassDef::Find(std::string_view session_id) const {
+  const auto found =
+      std::find_if(sessions.begin(), sessions.end(), [&](const ClassSession& s) { return s.id == session_id; });
+  return found == sessions.end() ? nullptr : &*found;
 }
 
 std::string Sha256Hex(std::string_view text) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hapsim/service/frame_encoder.h"
+
 namespace hapsim::service {
 
 void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsim::v1::SessionStatus* out) {
@@ -39,18 +41,7 @@ void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsi
   out->set_contact_state(core::ToString(snap->contact));
   // The events logged since this stream's previous status (as many as the
   // snapshot still holds; a stream polling at >= 1 Hz misses none in practice).
-  const std::uint64_t unsent = snap->events_total > cursor.events_sent ? snap->events_total - cursor.events_sent : 0;
-  const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(unsent, snap->recent_events.size()));
-  for (std::size_t i = snap->recent_events.size() - n; i < snap->recent_events.size(); ++i) {
-    const core::SceneEvent& e = snap->recent_events[i];
-    auto* event = out->add_events();
-    event->set_t_s(e.t_s);
-    event->set_kind(core::ToString(e.kind));
-    event->set_layer(e.layer);
-    for (int k = 0; k < 3; ++k) event->add_where_m(e.where_W_m[k]);
-    event->set_value(e.value);
-  }
-  cursor.events_sent = snap->events_total;
+  cursor.events_sent = AppendEventsSince(*snap, cursor.events_sent, out->mutable_events());
 }
 
 void ClassStatusBuilder::Fill(const std::vector<std::string>* session_ids, hapsim::v1::ClassStatus* out) {

@@ -23,20 +23,25 @@ void FillCommon(const SceneSnapshot& s, hapsim::v1::Frame* frame) {
   tool->set_contact_state(core::ToString(s.contact));
 }
 
-void FillEvents(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::Frame* frame) {
-  const std::uint64_t unsent = s.events_total > state->events_sent ? s.events_total - state->events_sent : 0;
+}  // namespace
+
+std::uint64_t AppendEventsSince(const SceneSnapshot& s, std::uint64_t events_sent,
+                                google::protobuf::RepeatedPtrField<hapsim::v1::SceneEvent>* out) {
+  const std::uint64_t unsent = s.events_total > events_sent ? s.events_total - events_sent : 0;
   const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(unsent, s.recent_events.size()));
   for (std::size_t i = s.recent_events.size() - n; i < s.recent_events.size(); ++i) {
     const core::SceneEvent& e = s.recent_events[i];
-    auto* out = frame->add_events();
-    out->set_t_s(e.t_s);
-    out->set_kind(core::ToString(e.kind));
-    out->set_layer(e.layer);
-    for (int k = 0; k < 3; ++k) out->add_where_m(e.where_W_m[k]);
-    out->set_value(e.value);
+    auto* event = out->Add();
+    event->set_t_s(e.t_s);
+    event->set_kind(core::ToString(e.kind));
+    event->set_layer(e.layer);
+    for (int k = 0; k < 3; ++k) event->add_where_m(e.where_W_m[k]);
+    event->set_value(e.value);
   }
-  state->events_sent = s.events_total;
+  return s.events_total;
 }
+
+namespace {
 
 void EncodeKeyframe(const SceneSnapshot& s, StreamEncoderState* state, hapsim::v1::Frame* frame) {
   const auto capacity = static_cast<std::size_t>(s.vertices_m.cols());
@@ -140,7 +145,7 @@ void EncodeFrame(const SceneSnapshot& s, const TopologyHistory& history, StreamE
   }
   frame->set_seq(state->next_seq++);
   FillCommon(s, frame);
-  FillEvents(s, state, frame);
+  state->events_sent = AppendEventsSince(s, state->events_sent, frame->mutable_events());
   if (state->need_keyframe) {
     state->need_keyframe = false;
     EncodeKeyframe(s, state, frame);

@@ -81,11 +81,14 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   if (tick_observer_) tick_observer_(in);
   if (in.reset) finished_trial_outbox_.Publish(trial_.StartNext());  // a reset ends the trial
   StepScene(*scene_, in, config_.tick_period_s);
-  RecordTrial(in);
+  // The step's outputs, read once for the counters, the trial and the device.
+  const core::LocalForceModel model = scene_->ForceModel();
+  const double tool_force_N = scene_->ToolForce_W_N().norm();
+  RecordTrial(in, model.state, tool_force_N);
   counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns)),
                                    std::memory_order_relaxed);
-  RecordTiming(in, due_ns, now_ns);
-  if (in.tool.valid) PublishForceModel(in);
+  RecordTiming(in, due_ns, now_ns, tool_force_N);
+  if (in.tool.valid) PublishForceModel(in, model);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
   return NextDueNs(in, due_ns, now_ns);
 }
@@ -126,7 +129,7 @@ std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::i
   return next;
 }
 
-void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) {
+void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N) {
   const std::int64_t lateness_ns = now_ns - due_ns;
   if (lateness_ns > period_ns_) counters_.late_ticks.fetch_add(1, std::memory_order_relaxed);
   AtomicMax(counters_.max_lateness_ns, lateness_ns);
@@ -137,16 +140,16 @@ void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_
   counters_.sim_time_s.store(scene_->SimTime_s(), std::memory_order_relaxed);
   counters_.numerical_resets.store(scene_->Status().numerical_resets, std::memory_order_relaxed);
   if (in.reset) counters_.peak_tool_force_N.store(0.0);
-  AtomicMax(counters_.peak_tool_force_N, scene_->ToolForce_W_N().norm());
+  AtomicMax(counters_.peak_tool_force_N, tool_force_N);
 }
 
-void Session::RecordTrial(const TickInput& in) {
+void Session::RecordTrial(const TickInput& in, core::ContactState contact, double tool_force_N) {
   TrialTick t;
   t.sim_time_s = scene_->SimTime_s();
-  t.force_N = scene_->ToolForce_W_N().norm();
+  t.force_N = tool_force_N;
   t.current_layer = scene_->Status().current_layer;
   t.tip_depth_m = scene_->Status().tip_depth_m;
-  t.contact = scene_->ForceModel().state;
+  t.contact = contact;
   t.tip_W_m = in.tool.tip_W_m;
   t.tool_present = in.tool.valid && !in.paused;
   // The events logged since the previous tick (as many as the scene still holds).
@@ -159,13 +162,13 @@ void Session::RecordTrial(const TickInput& in) {
   trial_.OnTick(t);
 }
 
-void Session::PublishForceModel(const TickInput& in) {
+void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel& model) {
   ForceModelMessage& m = force_message_;
   m.device_id = in.device_id;
   m.seq = force_seq_++;
   m.echo_pose_seq = in.pose_seq;
   // Paused: the tissue is frozen, so the device gets no force (safe default).
-  m.model = in.paused ? core::LocalForceModel{} : scene_->ForceModel();
+  m.model = in.paused ? core::LocalForceModel{} : model;
   m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).

@@ -130,12 +130,8 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
   const Status status = Guarded("CreateSession", [&] {
     const auto who = Caller(context);
     policy_->Authorize(who, Action::kCreateClose, req->session_id());
-    std::string owner = req->owner();
-    if (const ClassDef* cls = policy_->ClassOf(req->session_id()); cls && owner.empty()) {
-      for (const auto& s : cls->sessions) {
-        if (s.id == req->session_id()) owner = s.trainee;
-      }
-    }
+    Placement placement = PlacementOf(req->session_id());
+    std::string owner = req->owner().empty() ? std::move(placement.trainee) : req->owner();
     if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
     std::map<std::string, double> params;
     for (const auto& [key, value] : req->params()) {
@@ -144,9 +140,8 @@ Status SessionServiceImpl::CreateSession(grpc::ServerContext* context, const hap
       }
       params.emplace(key, value);
     }
-    const ClassDef* cls = policy_->ClassOf(req->session_id());
     created = registry_->Create(req->session_id(), req->scene(), std::move(owner), std::move(params),
-                                cls ? cls->targets : TrialTargets{});
+                                placement.targets);
   });
   if (!status.ok()) return status;
   // The build yields the CPU to ticks, so on a saturated server it can
@@ -286,6 +281,12 @@ Status SessionServiceImpl::JoinSession(grpc::ServerContext* context, const hapsi
   });
 }
 
+SessionServiceImpl::Placement SessionServiceImpl::PlacementOf(const std::string& session_id) const {
+  const ClassDef* cls = policy_->ClassOf(session_id);
+  if (!cls) return {};
+  return {cls->Find(session_id)->trainee, cls->targets};
+}
+
 const std::vector<std::string>* SessionServiceImpl::ClassSessions(const std::string& name,
                                                                   std::vector<std::string>* storage) const {
   if (!policy_->enabled()) {
@@ -308,7 +309,7 @@ Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim
   double rate_hz = req->rate_hz();
   const Status allowed = Guarded("WatchClass", [&] {
     const auto who = Caller(context);
-    if (policy_->enabled()) policy_->Authorize(who, Action::kWatchClass, req->class_name());
+    policy_->Authorize(who, Action::kWatchClass, req->class_name());
     ids = ClassSessions(req->class_name(), &storage);
     if (rate_hz == 0.0) rate_hz = kDefaultWatchRateHz;
     if (!std::isfinite(rate_hz) || rate_hz < 0.1 || rate_hz > kMaxWatchRateHz) {
@@ -329,7 +330,6 @@ Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim
   const auto period = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(1.0 / rate_hz));
   auto next = std::chrono::steady_clock::now();
-  Status result = Status::OK;
   while (true) {
     hapsim::v1::ClassStatus status;
     status.set_class_name(req->class_name());
@@ -342,14 +342,14 @@ Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim
   }
   std::lock_guard lock(watch_mutex_);
   --watch_streams_;
-  return result;
+  return Status::OK;
 }
 
 Status SessionServiceImpl::GetTrials(grpc::ServerContext* context, const hapsim::v1::TrialQuery* req,
                                      hapsim::v1::TrialReport* out) {
   return Guarded("GetTrials", [&] {
     const auto who = Caller(context);
-    if (policy_->enabled()) policy_->Authorize(who, Action::kWatchClass, req->class_name());
+    policy_->Authorize(who, Action::kWatchClass, req->class_name());
     std::vector<std::string> storage;
     const std::vector<std::string>* ids = ClassSessions(req->class_name(), &storage);
     if (!trials_) throw ServiceError(ErrorCode::kFailedPrecondition, "this server keeps no trial metrics");
@@ -377,7 +377,7 @@ Status SessionServiceImpl::PushScenario(grpc::ServerContext* context, const haps
                                         hapsim::v1::PushScenarioResponse* out) {
   return Guarded("PushScenario", [&] {
     const auto who = Caller(context);
-    if (policy_->enabled()) policy_->Authorize(who, Action::kPushScenario, req->class_name());
+    policy_->Authorize(who, Action::kPushScenario, req->class_name());
     std::vector<std::string> storage;
     const std::vector<std::string>* ids = ClassSessions(req->class_name(), &storage);
     std::vector<std::string> all;
@@ -402,20 +402,15 @@ Status SessionServiceImpl::PushScenario(grpc::ServerContext* context, const haps
       throw ServiceError(ErrorCode::kInvalidArgument, e.what());
     }
     for (const auto& id : *ids) {
-      std::string owner;
+      Placement placement = PlacementOf(id);
       if (const auto existing = registry_->Find(id)) {
-        owner = existing->config().owner;
+        placement.trainee = existing->config().owner;  // keeps a trainee named at creation
         try {
           registry_->Close(id);
         } catch (const ServiceError&) {  // closed meanwhile
         }
-      } else if (const ClassDef* cls = policy_->ClassOf(id)) {
-        for (const auto& s : cls->sessions) {
-          if (s.id == id) owner = s.trainee;
-        }
       }
-      const ClassDef* cls = policy_->ClassOf(id);
-      DescribeSession(*registry_->Create(id, spec.name, owner, spec.params, cls ? cls->targets : TrialTargets{}),
+      DescribeSession(*registry_->Create(id, spec.name, placement.trainee, spec.params, placement.targets),
                       out->add_sessions());
     }
     spdlog::info("{} pushed scene '{}' to {} sessions of class '{}'", who ? who->name : "a development client",

@@ -42,7 +42,8 @@ struct ClassDef {
   std::string name;
   std::vector<ClassSession> sessions;
   TrialTargets targets;  // target_depth_m, target_line_m: what its trials are measured against
-  bool Has(std::string_view session_id) const;
+  bool Has(std::string_view session_id) const { return Find(session_id) != nullptr; }
+  const ClassSession* Find(std::string_view session_id) const;  // nullptr: not in this class
 };
 
 struct TokenDef {

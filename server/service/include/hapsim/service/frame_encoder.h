@@ -39,6 +39,12 @@ inline std::int32_t QuantiseCoordinate(double x_m, double quantum_m) {
 
 // Fills *frame (cleared first) and advances *state. `history` must have
 // absorbed the snapshot (it ends at or after snapshot.topology_version).
+// Appends the snapshot's events after the first `events_sent` the stream has
+// already sent (as many as the snapshot still holds) and returns the new
+// count sent. Shared by viewer frames and the class view's statuses.
+std::uint64_t AppendEventsSince(const SceneSnapshot& snapshot, std::uint64_t events_sent,
+                                google::protobuf::RepeatedPtrField<hapsim::v1::SceneEvent>* out);
+
 void EncodeFrame(const SceneSnapshot& snapshot, const TopologyHistory& history, StreamEncoderState* state,
                  hapsim::v1::Frame* frame);
 

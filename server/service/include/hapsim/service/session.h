@@ -134,9 +134,9 @@ class Session : public TickTask {
  private:
   TickInput AssembleInput(std::int64_t now_ns);
   std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
-  void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns);
-  void RecordTrial(const TickInput& in);
-  void PublishForceModel(const TickInput& in);
+  void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N);
+  void RecordTrial(const TickInput& in, core::ContactState contact, double tool_force_N);
+  void PublishForceModel(const TickInput& in, const core::LocalForceModel& model);
   void PublishSnapshot(const TickInput& in);
 
   SessionConfig config_;

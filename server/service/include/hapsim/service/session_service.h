@@ -59,6 +59,13 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
 
  private:
   std::optional<Principal> Caller(const grpc::ServerContext* context) const;
+  // What the class config says of a session (trainee, trial targets); empty
+  // for a session in no class.
+  struct Placement {
+    std::string trainee;
+    TrialTargets targets;
+  };
+  Placement PlacementOf(const std::string& session_id) const;
   // The sessions of class `name` (nullptr: every session, development mode).
   const std::vector<std::string>* ClassSessions(const std::string& name, std::vector<std::string>* storage) const;
 
