@@ -12,6 +12,8 @@
 #                     crypto (class config, token hashes) — the server
 #   hapsim::bridge    core (force-model law), common, dds — no gRPC at all
 #   hapsim::viewer    common, proto, gRPC client, tinygltf (export) — no physics, no DDS
+#   hapsim::viewer_gui  viewer + GLFW, OpenGL/EGL, Dear ImGui, stb — rendering on
+#                     top of the mesh cache; the cache and client never include GL
 #   executables       their library; hapsim-load adds the viewer's gRPC
 #                     client (to create sessions) but never the server's
 #                     service library; hapsim-validate core + io.
@@ -39,6 +41,10 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "grpc|grpcpp|google/protobuf|hapsim/(io|service|viewer|v1)/")
   hapsim_forbid_includes(hapsim::viewer TARGET hapsim_viewer DIRS ${PROJECT_SOURCE_DIR}/client-viewer
     PATTERN "dds/|ddsc|haptics\\.h|hapsim/(core|dds|io|service|bridge)/")
+  # The mesh cache and gRPC client stay free of rendering.
+  hapsim_forbid_includes(hapsim::viewer_without_gl
+    DIRS ${PROJECT_SOURCE_DIR}/client-viewer/include ${PROJECT_SOURCE_DIR}/client-viewer/src
+    PATTERN "GL/|GLFW/|EGL/|imgui|stb/|hapsim/gui/")
 endif()
 
 # Links (transitive).
@@ -61,7 +67,10 @@ hapsim_layer_allows(hapsim_viewer ${_viewer})
 hapsim_layer_allows(hapsim-server hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim-bridge ${_bridge})
 hapsim_layer_allows(hapsim-load ${_bridge} ${_viewer})
-hapsim_layer_allows(hapsim-viewer ${_viewer})
+if(HAPSIM_WITH_VIEWER_GUI)
+  hapsim_layer_allows(hapsim_viewer_gui ${_viewer})
+endif()
+hapsim_layer_allows(hapsim-viewer ${_viewer} hapsim_viewer_gui)
 hapsim_layer_allows(hapsim-ctl ${_viewer})
 hapsim_layer_allows(hapsim-validate hapsim_io ${_core})
 hapsim_check_layers()

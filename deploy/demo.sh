@@ -24,7 +24,7 @@ for _ in $(seq 1 100); do [ -s "$out/port" ] && break; sleep 0.1; done
 [ -s "$out/port" ] || { echo "demo: the server did not start:"; cat "$out/server.log"; exit 1; }
 addr=127.0.0.1:$(cat "$out/port")
 
-"$bin/hapsim-viewer" --server "$addr" --session demo --obj "$out/viewer.obj" \
+"$bin/hapsim-viewer" --headless --server "$addr" --session demo --obj "$out/viewer.obj" \
     >"$out/viewer.out" 2>"$out/viewer.log" &
 viewer=$!; pids+=("$viewer")
 script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10 --hold-s 0.5)

@@ -11,6 +11,7 @@ packages=(
   libtomlplusplus-dev libssl-dev openssl libtinygltf-dev
   python3 python3-scipy python3-numpy python3-grpcio
   clang libfuzzer-14-dev
+  libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

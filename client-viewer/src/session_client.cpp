@@ -43,6 +43,19 @@ grpc::Status SessionClient::Close(const std::string& session_id) {
   return stub_->CloseSession(&context, ref, &response);
 }
 
+grpc::Status SessionClient::Apply(Control control, const std::string& session_id, v1::SessionInfo* info) {
+  grpc::ClientContext context;
+  SetDeadline(&context);
+  v1::SessionRef ref;
+  ref.set_session_id(session_id);
+  switch (control) {
+    case Control::kPause: return stub_->PauseSession(&context, ref, info);
+    case Control::kResume: return stub_->ResumeSession(&context, ref, info);
+    case Control::kReset: return stub_->ResetSession(&context, ref, info);
+  }
+  return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "unknown control");
+}
+
 std::string DescribeStatus(const grpc::Status& status) {
   static constexpr const char* kNames[] = {
       "OK",        "CANCELLED",         "UNKNOWN",      "INVALID_ARGUMENT", "DEADLINE_EXCEEDED", "NOT_FOUND",

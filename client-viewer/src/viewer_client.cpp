@@ -110,6 +110,7 @@ bool ViewerClient::Run() {
           resubscribe = true;
           break;
         }
+        if (options_.on_frame) options_.on_frame(frame, cache_);
       }
       // Acknowledge what is applied (or deliberately dropped): the server sends
       // at most ack_window frames ahead of this.

@@ -25,11 +25,11 @@ taskset -c 1 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" --create
 load=$!; pids+=("$load")
 sleep 3  # sessions created and streaming
 for v in $(seq 0 $((viewers - 1))); do
-  taskset -c 1 "$bin/hapsim-viewer" --server "$addr" --session "load-$v" --seconds $((seconds + 5)) >"viewer$v.out" 2>/dev/null &
+  taskset -c 1 "$bin/hapsim-viewer" --headless --server "$addr" --session "load-$v" --seconds $((seconds + 5)) >"viewer$v.out" 2>/dev/null &
   pids+=("$!")
 done
 # The churning viewer: connects, takes a keyframe, disconnects, every second.
-( while true; do timeout 1 taskset -c 1 "$bin/hapsim-viewer" --server "$addr" --session load-0 --seconds 0.8 \
+( while true; do timeout 1 taskset -c 1 "$bin/hapsim-viewer" --headless --server "$addr" --session load-0 --seconds 0.8 \
       >/dev/null 2>&1 || true; done ) &
 churn=$!; pids+=("$churn")
 echo "t_s,rss_kib" >rss.csv

@@ -9,7 +9,7 @@ session=acu
 source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session:acupuncture"
 
-"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj >viewer.out 2>viewer.log &
+"$bin/hapsim-viewer" --headless --server "$addr" --session "$session" --seconds 60 --obj viewer.obj >viewer.out 2>viewer.log &
 viewer=$!; pids+=("$viewer")
 sleep 0.3
 # 1 mm above the skin, 5 mm/s down to 14 mm (skin pierced ~2.6 mm deep, the

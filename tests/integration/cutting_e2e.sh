@@ -12,7 +12,7 @@ session=cut
 source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session:cutting"
 
-"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj early.obj >early.out 2>early.log &
+"$bin/hapsim-viewer" --headless --server "$addr" --session "$session" --seconds 60 --obj early.obj >early.out 2>early.log &
 early=$!; pids+=("$early")
 sleep 0.3
 # 5 mm above the skin at x = -6 mm; 1 + 0.3 + 2.4 + 1.3 s = 5 s. Ends by itself.
@@ -21,7 +21,7 @@ sleep 0.3
     --trace trace.csv >bridge.out 2>bridge.log &
 bridge=$!; pids+=("$bridge")
 sleep 2.5  # mid-stroke: the late viewer starts from a keyframe of a half-cut mesh
-"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj late.obj >late.out 2>late.log &
+"$bin/hapsim-viewer" --headless --server "$addr" --session "$session" --seconds 60 --obj late.obj >late.out 2>late.log &
 late=$!; pids+=("$late")
 wait "$bridge" && bridge_rc=0 || bridge_rc=$?
 sleep 1.0  # the wound settles a little; both viewers catch the last frames

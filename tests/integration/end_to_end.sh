@@ -12,7 +12,7 @@ session=e2e
 source "$(dirname "$0")/lib.sh" "$@"
 start_server "$session"
 
-"$bin/hapsim-viewer" --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \
+"$bin/hapsim-viewer" --headless --server "$addr" --session "$session" --seconds 60 --obj viewer.obj \
     --debug-drop-seq 20 --name e2e-viewer >viewer.out 2>viewer.log &
 viewer=$!; pids+=("$viewer")
 

@@ -36,13 +36,13 @@ random_sleep() { local ms=$(( $1 + RANDOM % $2 )); sleep "$(printf '%d.%03d' $((
 
 "${fb_prefix[@]}" "$bin/hapsim-bridge" --session fb --device-id 2 "${press[@]}" >fb_bridge.out 2>fb_bridge.log &
 fb_bridge=$!; pids+=("$fb_bridge")
-"${fb_prefix[@]}" "$bin/hapsim-viewer" --server "$addr" --session fb --seconds 60 >fb_viewer.out 2>fb_viewer.log &
+"${fb_prefix[@]}" "$bin/hapsim-viewer" --headless --server "$addr" --session fb --seconds 60 >fb_viewer.out 2>fb_viewer.log &
 fb_viewer=$!; pids+=("$fb_viewer")
 
 start_fa() {
   "${client_prefix[@]}" "$bin/hapsim-bridge" --session fa --device-id 1 "${press[@]}" >"fa_bridge$1.out" 2>"fa_bridge$1.log" &
   fa_bridge=$!; pids+=("$fa_bridge")
-  "${client_prefix[@]}" "$bin/hapsim-viewer" --server "$addr" --session fa --seconds 60 --obj "fa_viewer$1.obj" \
+  "${client_prefix[@]}" "$bin/hapsim-viewer" --headless --server "$addr" --session fa --seconds 60 --obj "fa_viewer$1.obj" \
       >"fa_viewer$1.out" 2>"fa_viewer$1.log" &
   fa_viewer=$!; pids+=("$fa_viewer")
 }

@@ -20,6 +20,8 @@ class SessionClient {
   grpc::Status Create(const v1::CreateSessionRequest& request, v1::SessionInfo* info);
   grpc::Status Get(const std::string& session_id, v1::SessionInfo* info);
   grpc::Status Close(const std::string& session_id);
+  enum class Control { kPause, kResume, kReset };
+  grpc::Status Apply(Control control, const std::string& session_id, v1::SessionInfo* info);
 
  private:
   void SetDeadline(grpc::ClientContext* context) const;  // and the token

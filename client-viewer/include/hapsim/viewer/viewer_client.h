@@ -4,6 +4,7 @@
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -30,6 +31,9 @@ struct ViewerOptions {
   // Fault injection for tests: pretend the frame with this seq of the first
   // stream was lost (not applied), forcing gap detection and a resubscribe.
   std::int64_t debug_drop_seq = -1;
+  // Called on the client's thread after each frame is applied to the cache
+  // (an on-screen viewer copies what it draws; a recorder writes the frame).
+  std::function<void(const hapsim::v1::Frame&, const MeshCache&)> on_frame;
 };
 
 struct ViewerStats {

@@ -1,0 +1,55 @@
+// The viewer's ImGui panels: the session's state and controls, live force
+// plots (vs time, and vs depth — the acupuncture paper's curve, drawn as it
+// happens), the event list, and the instructor's class console.
+#pragma once
+#include <future>
+#include <memory>
+#include <string>
+
+#include "hapsim/gui/class_board.h"
+#include "hapsim/gui/live_scene.h"
+#include "hapsim/gui/scene_renderer.h"
+#include "hapsim/viewer/session_client.h"
+
+namespace hapsim::gui {
+
+// Pause / resume / reset sent off the render thread; the answer (or the
+// server's refusal, e.g. PERMISSION_DENIED for an observer) is shown.
+class SessionControls {
+ public:
+  explicit SessionControls(const viewer::Connection& connection);
+  void Send(viewer::SessionClient::Control control, const std::string& session_id);
+  const std::string& last_result();  // "" until an answer came
+  bool busy();
+
+ private:
+  std::unique_ptr<viewer::SessionClient> client_;
+  std::string init_error_;
+  std::future<std::string> pending_;
+  std::string last_;
+};
+
+struct ViewState {
+  RenderOptions render;
+  bool follow_tool = false;
+  bool reset_view = false;  // set by the panel's button (or R): the app refits the camera
+};
+
+struct StreamRate {  // frames per second of the stream, over ~1 s
+  double fps = 0.0;
+  double last_time_s = -1.0;
+  std::uint64_t last_frames = 0;
+  double since_frame_s = 0.0;  // wall time since the last new frame
+  std::uint64_t seen_version = 0;
+  void Update(const SceneView& scene, double now_s, double dt_s);
+};
+
+void DrawSessionPanel(const SceneView& scene, const std::string& session_id, const std::string& server,
+                      const StreamRate& rate, ViewState* view, SessionControls* controls);
+void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px);
+void DrawEventList(const SceneView& scene);
+// Tiles of every session of the class; returns the id the instructor
+// clicked to watch ("" when none was clicked).
+std::string DrawClassConsole(const ClassView& view, const std::string& watched, SessionControls* controls);
+
+}  // namespace hapsim::gui

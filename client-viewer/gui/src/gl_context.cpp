@@ -1,0 +1,109 @@
+#include "hapsim/gui/gl_context.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+
+#include "hapsim/gui/gl.h"
+
+namespace hapsim::gui {
+
+namespace {
+std::string glfw_error;
+void OnGlfwError(int, const char* description) { glfw_error = description; }
+}  // namespace
+
+std::unique_ptr<GlWindow> GlWindow::Open(int width_px, int height_px, const std::string& title, bool vsync,
+                                         std::string* error) {
+  glfwSetErrorCallback(OnGlfwError);
+  if (!glfwInit()) {
+    *error = "cannot open a window (" + glfw_error + "); without a display use --headless or --png";
+    return nullptr;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  auto window = std::unique_ptr<GlWindow>(new GlWindow());
+  window->window_ = glfwCreateWindow(width_px, height_px, title.c_str(), nullptr, nullptr);
+  if (!window->window_) {
+    *error = "cannot create an OpenGL 3.3 window (" + glfw_error + ")";
+    glfwTerminate();
+    return nullptr;
+  }
+  glfwMakeContextCurrent(window->window_);
+  glfwSwapInterval(vsync ? 1 : 0);
+  return window;
+}
+
+GlWindow::~GlWindow() {
+  if (window_) glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+bool GlWindow::ShouldClose() const { return glfwWindowShouldClose(window_) != 0; }
+void GlWindow::FramebufferSize(int* width_px, int* height_px) const { glfwGetFramebufferSize(window_, width_px, height_px); }
+void GlWindow::Swap() { glfwSwapBuffers(window_); }
+
+std::unique_ptr<HeadlessGl> HeadlessGl::Open(int width_px, int height_px, std::string* error) {
+  auto get_platform_display =
+      reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (!get_platform_display) {
+    *error = "EGL has no eglGetPlatformDisplayEXT (need Mesa's libegl-mesa0)";
+    return nullptr;
+  }
+  EGLDisplay display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  EGLint major = 0, minor = 0;
+  if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
+    *error = "cannot initialise a surfaceless EGL display (Mesa's libegl-mesa0 and libgl1-mesa-dri)";
+    return nullptr;
+  }
+  eglBindAPI(EGL_OPENGL_API);
+  const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                               EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+  if (context == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+    *error = "cannot create an off-screen OpenGL 3.3 core context (EGL error " + std::to_string(eglGetError()) + ")";
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
+    return nullptr;
+  }
+  auto gl = std::unique_ptr<HeadlessGl>(new HeadlessGl());
+  gl->display_ = display;
+  gl->context_ = context;
+  gl->width_ = width_px;
+  gl->height_ = height_px;
+  glGenFramebuffers(1, &gl->framebuffer_);
+  glBindFramebuffer(GL_FRAMEBUFFER, gl->framebuffer_);
+  glGenRenderbuffers(1, &gl->colour_);
+  glBindRenderbuffer(GL_RENDERBUFFER, gl->colour_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width_px, height_px);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl->colour_);
+  glGenRenderbuffers(1, &gl->depth_);
+  glBindRenderbuffer(GL_RENDERBUFFER, gl->depth_);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width_px, height_px);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gl->depth_);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    *error = "the off-screen framebuffer is incomplete";
+    return nullptr;
+  }
+  return gl;
+}
+
+HeadlessGl::~HeadlessGl() {
+  if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
+  if (colour_) glDeleteRenderbuffers(1, &colour_);
+  if (depth_) glDeleteRenderbuffers(1, &depth_);
+  eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  eglDestroyContext(display_, context_);
+  eglTerminate(display_);
+}
+
+std::string HeadlessGl::Renderer() const {
+  const auto* text = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  return text ? text : "";
+}
+
+}  // namespace hapsim::gui

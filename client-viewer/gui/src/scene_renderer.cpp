@@ -1,0 +1,313 @@
+#include "hapsim/gui/scene_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "hapsim/gui/gl.h"
+#include "hapsim/viewer/mesh_export.h"
+
+namespace hapsim::gui {
+
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 position_m;
+uniform mat4 view_projection;
+uniform mat4 model;
+out vec3 world_m;
+void main() {
+  vec4 w = model * vec4(position_m, 1.0);
+  world_m = w.xyz;
+  gl_Position = view_projection * w;
+}
+)";
+
+// Flat shading from the screen-space derivatives of the world position (no
+// normals to send or recompute as the tissue deforms), lit from the eye and
+// from above, both sides of a face alike (cut surfaces are seen from inside).
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec3 world_m;
+uniform vec3 colour;
+uniform float alpha;
+uniform vec3 eye_m;
+out vec4 out_colour;
+void main() {
+  vec3 n = normalize(cross(dFdx(world_m), dFdy(world_m)));
+  vec3 to_eye = normalize(eye_m - world_m);
+  if (dot(n, to_eye) < 0.0) n = -n;
+  vec3 key = normalize(vec3(0.3, -0.4, 1.0));
+  float diffuse = 0.55 * max(dot(n, to_eye), 0.0) + 0.35 * max(dot(n, key), 0.0);
+  float specular = 0.25 * pow(max(dot(reflect(-key, n), to_eye), 0.0), 24.0);
+  out_colour = vec4(colour * (0.22 + diffuse) + vec3(specular), alpha);
+}
+)";
+
+unsigned Compile(unsigned kind, const char* source) {
+  const unsigned shader = glCreateShader(kind);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("viewer shader does not compile: ") + log);
+  }
+  return shader;
+}
+
+bool IsTranslucentLayer(const std::string& part) { return part == "skin" || part == "fat"; }
+float LayerAlpha(const std::string& part) { return part == "skin" ? 0.35f : 0.5f; }
+
+}  // namespace
+
+struct SceneRenderer::Solid {
+  unsigned vao = 0, positions = 0, indices = 0;
+  int count = 0;
+  Solid(const std::vector<float>& p, const std::vector<std::uint32_t>& tri) {
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glGenBuffers(1, &positions);
+    glBindBuffer(GL_ARRAY_BUFFER, positions);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.size() * sizeof(float)), p.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(0);
+    glGenBuffers(1, &indices);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(tri.size() * sizeof(std::uint32_t)), tri.data(),
+                 GL_STATIC_DRAW);
+    count = static_cast<int>(tri.size());
+    glBindVertexArray(0);
+  }
+  ~Solid() {
+    glDeleteBuffers(1, &positions);
+    glDeleteBuffers(1, &indices);
+    glDeleteVertexArrays(1, &vao);
+  }
+};
+
+namespace {
+
+// Unit solids along +z: a cylinder r = 1 from z = 0 to 1, a cone of base
+// r = 1 at z = 0 and apex at z = 1, an octahedron of radius 1.
+constexpr int kSides = 12;
+void Ring(std::vector<float>* p, float z, float r) {
+  for (int k = 0; k < kSides; ++k) {
+    const double a = 2.0 * 3.14159265358979323846 * k / kSides;
+    p->insert(p->end(), {r * static_cast<float>(std::cos(a)), r * static_cast<float>(std::sin(a)), z});
+  }
+}
+void Cylinder(std::vector<float>* p, std::vector<std::uint32_t>* t) {
+  Ring(p, 0.0f, 1.0f);
+  Ring(p, 1.0f, 1.0f);
+  p->insert(p->end(), {0, 0, 0, 0, 0, 1});
+  const std::uint32_t c0 = 2 * kSides, c1 = c0 + 1;
+  for (std::uint32_t k = 0; k < kSides; ++k) {
+    const std::uint32_t a = k, b = (k + 1) % kSides;
+    t->insert(t->end(), {a, b, b + kSides, a, b + kSides, a + kSides, c0, b, a, c1, a + kSides, b + kSides});
+  }
+}
+void Cone(std::vector<float>* p, std::vector<std::uint32_t>* t) {
+  Ring(p, 0.0f, 1.0f);
+  p->insert(p->end(), {0, 0, 1, 0, 0, 0});
+  const std::uint32_t apex = kSides, base = kSides + 1;
+  for (std::uint32_t k = 0; k < kSides; ++k) {
+    const std::uint32_t a = k, b = (k + 1) % kSides;
+    t->insert(t->end(), {a, b, apex, base, b, a});
+  }
+}
+void Octahedron(std::vector<float>* p, std::vector<std::uint32_t>* t) {
+  *p = {1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1, 0, 0, 0, 1, 0, 0, -1};
+  *t = {0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5};
+}
+
+// Model matrix putting a unit +z solid from `from` along `direction` (unit),
+// `length` long and `radius` wide.
+Eigen::Matrix4f Along(const Eigen::Vector3d& from, const Eigen::Vector3d& direction, double length, double radius) {
+  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), direction);
+  Eigen::Affine3d m = Eigen::Translation3d(from) * q * Eigen::Scaling(radius, radius, length);
+  return m.matrix().cast<float>();
+}
+
+}  // namespace
+
+SceneRenderer::SceneRenderer() {
+  const unsigned vs = Compile(GL_VERTEX_SHADER, kVertexShader), fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  program_ = glCreateProgram();
+  glAttachShader(program_, vs);
+  glAttachShader(program_, fs);
+  glLinkProgram(program_);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
+  if (!ok) throw std::runtime_error("viewer shaders do not link");
+  u_view_projection_ = glGetUniformLocation(program_, "view_projection");
+  u_model_ = glGetUniformLocation(program_, "model");
+  u_colour_ = glGetUniformLocation(program_, "colour");
+  u_alpha_ = glGetUniformLocation(program_, "alpha");
+  u_eye_ = glGetUniformLocation(program_, "eye_m");
+  glGenVertexArrays(1, &mesh_vao_);
+  glBindVertexArray(mesh_vao_);
+  glGenBuffers(1, &mesh_positions_);
+  glBindBuffer(GL_ARRAY_BUFFER, mesh_positions_);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  glGenBuffers(1, &mesh_indices_);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
+  glBindVertexArray(0);
+  std::vector<float> p;
+  std::vector<std::uint32_t> t;
+  Cylinder(&p, &t);
+  cylinder_ = std::make_unique<Solid>(p, t);
+  p.clear();
+  t.clear();
+  Cone(&p, &t);
+  cone_ = std::make_unique<Solid>(p, t);
+  Octahedron(&p, &t);
+  octahedron_ = std::make_unique<Solid>(p, t);
+}
+
+SceneRenderer::~SceneRenderer() {
+  cylinder_.reset();
+  cone_.reset();
+  octahedron_.reset();
+  glDeleteBuffers(1, &mesh_positions_);
+  glDeleteBuffers(1, &mesh_indices_);
+  glDeleteVertexArrays(1, &mesh_vao_);
+  glDeleteProgram(program_);
+}
+
+void SceneRenderer::Upload(const SceneView& scene) {
+  glBindVertexArray(mesh_vao_);
+  if (scene.version != uploaded_version_) {
+    glBindBuffer(GL_ARRAY_BUFFER, mesh_positions_);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.positions_m.size() * sizeof(float)),
+                 scene.positions_m.data(), GL_STREAM_DRAW);
+    uploaded_version_ = scene.version;
+  }
+  if (scene.topology_stamp != uploaded_topology_) {
+    // Sort the triangles by part so each part is one draw call.
+    ranges_.clear();
+    std::vector<std::uint32_t> sorted;
+    if (scene.triangles) {
+      const TriangleList& list = *scene.triangles;
+      const std::size_t parts = list.part_names.size();
+      std::vector<std::size_t> count(parts + 1, 0);
+      for (const auto p : list.parts) ++count[std::min<std::size_t>(p, parts)];
+      std::vector<std::size_t> start(parts + 2, 0);
+      for (std::size_t p = 0; p <= parts; ++p) start[p + 1] = start[p] + count[p];
+      sorted.resize(3 * start[parts + 1]);
+      std::vector<std::size_t> next(start.begin(), start.end() - 1);
+      for (std::size_t t = 0; t < list.parts.size(); ++t) {
+        const std::size_t at = next[std::min<std::size_t>(list.parts[t], parts)]++;
+        for (int k = 0; k < 3; ++k) sorted[3 * at + static_cast<std::size_t>(k)] = list.vertices[3 * t + static_cast<std::size_t>(k)];
+      }
+      for (std::size_t p = 0; p < parts; ++p)
+        if (count[p] > 0) ranges_.push_back({static_cast<std::uint16_t>(p), 3 * start[p], 3 * count[p]});
+    }
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)),
+                 sorted.data(), GL_STATIC_DRAW);
+    uploaded_topology_ = scene.topology_stamp;
+  }
+  glBindVertexArray(0);
+}
+
+double SceneRenderer::ToolLength_m(const SceneView& scene) {
+  return std::clamp(0.6 * (scene.hi_m - scene.lo_m).norm(), 0.02, 0.08);
+}
+
+void SceneRenderer::DrawSolid(const Solid& solid, const Eigen::Matrix4f& model, const float rgb[3], float alpha) {
+  glUniformMatrix4fv(u_model_, 1, GL_FALSE, model.data());
+  glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);
+  glUniform1f(u_alpha_, alpha);
+  glBindVertexArray(solid.vao);
+  glDrawElements(GL_TRIANGLES, solid.count, GL_UNSIGNED_INT, nullptr);
+}
+
+void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int x_px, int y_px, int width_px,
+                         int height_px, const RenderOptions& options) {
+  glViewport(x_px, y_px, width_px, height_px);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x_px, y_px, width_px, height_px);
+  glClearColor(options.background[0], options.background[1], options.background[2], 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(program_);
+  const Eigen::Matrix4f view_projection =
+      camera.Projection(static_cast<double>(width_px) / std::max(height_px, 1)) * camera.View();
+  glUniformMatrix4fv(u_view_projection_, 1, GL_FALSE, view_projection.data());
+  const Eigen::Vector3f eye = camera.Eye_m().cast<float>();
+  glUniform3f(u_eye_, eye.x(), eye.y(), eye.z());
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  const std::vector<std::string> no_names;
+  const auto& names = scene.triangles ? scene.triangles->part_names : no_names;
+  auto draw_parts = [&](bool translucent_pass) {
+    glUniformMatrix4fv(u_model_, 1, GL_FALSE, identity.data());
+    glBindVertexArray(mesh_vao_);
+    for (const auto& range : ranges_) {
+      const std::string& name = range.part < names.size() ? names[range.part] : "";
+      const bool translucent = options.see_through_layers && IsTranslucentLayer(name);
+      if (translucent != translucent_pass) continue;
+      const auto rgb = viewer::PartColour(name);
+      glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);
+      glUniform1f(u_alpha_, translucent ? LayerAlpha(name) : 1.0f);
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(range.first * sizeof(std::uint32_t)));
+    }
+  };
+  draw_parts(false);
+
+  const double scale_m = std::max((scene.hi_m - scene.lo_m).norm(), 0.01);
+  if (options.show_tool && scene.tool.valid) {
+    // The tool's +z runs from the tip to the handle (the scenes' convention).
+    const Eigen::Vector3d up = scene.tool.orientation * Eigen::Vector3d::UnitZ();
+    const float steel[3] = {0.80f, 0.82f, 0.88f};
+    DrawSolid(*cylinder_, Along(scene.tool.tip_m, up, ToolLength_m(scene), kToolRadius_m), steel, 1.0f);
+    const float grip[3] = {0.20f, 0.45f, 0.85f};
+    const double len = ToolLength_m(scene);
+    DrawSolid(*cylinder_, Along(scene.tool.tip_m + 0.6 * len * up, up, 0.4 * len, 4 * kToolRadius_m), grip, 1.0f);
+  }
+  if (options.show_force && scene.tool.valid) {
+    const double f = scene.tool.force_N.norm();
+    if (f > 1e-3) {
+      const Eigen::Vector3d dir = scene.tool.force_N / f;
+      const double length = std::min(f * options.force_arrow_m_per_N, kMaxArrow_m);
+      const double head = std::min(0.3 * length, 0.004), radius = 0.012 * scale_m;
+      const float yellow[3] = {1.0f, 0.85f, 0.10f};
+      DrawSolid(*cylinder_, Along(scene.tool.tip_m, dir, length - head, 0.4 * radius), yellow, 1.0f);
+      DrawSolid(*cone_, Along(scene.tool.tip_m + (length - head) * dir, dir, head, radius), yellow, 1.0f);
+    }
+  }
+  if (options.show_events) {
+    int shown = 0;
+    for (auto e = scene.events.rbegin(); e != scene.events.rend() && shown < 24; ++e) {
+      if (!e->has_where) continue;
+      const bool puncture = e->kind == "puncture", cut = e->kind.rfind("cut", 0) == 0;
+      if (!puncture && !cut) continue;  // contact begin/end would clutter the tip
+      const float red[3] = {0.95f, 0.15f, 0.15f}, orange[3] = {1.0f, 0.55f, 0.1f};
+      const Eigen::Affine3d m = Eigen::Translation3d(e->where_m) * Eigen::Scaling(0.012 * scale_m);
+      DrawSolid(*octahedron_, m.matrix().cast<float>(), puncture ? red : orange, 1.0f);
+      ++shown;
+    }
+  }
+  // Translucent layers last, without writing depth, so what is inside shows.
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  draw_parts(true);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace hapsim::gui
