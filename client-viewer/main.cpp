@@ -173,6 +173,13 @@ int main(int argc, char** argv) {
   options.debug_drop_seq = drop_seq;
   options.token = connection.token;
 
+  std::shared_ptr<grpc::Channel> channel;
+  try {
+    channel = hapsim::viewer::MakeViewerChannel(connection);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", e.what());
+    return 2;
+  }
 #ifdef HAPSIM_WITH_VIEWER_GUI
   if (gui) {
     hapsim::gui::GuiOptions gui_options;
@@ -220,13 +227,6 @@ int main(int argc, char** argv) {
     };
   }
 
-  std::shared_ptr<grpc::Channel> channel;
-  try {
-    channel = hapsim::viewer::MakeViewerChannel(connection);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "hapsim-viewer: %s\n", e.what());
-    return 2;
-  }
   hapsim::viewer::ViewerClient client(channel, options);
   asio::io_context io;
   asio::signal_set signals(io, SIGINT, SIGTERM);

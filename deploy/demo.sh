@@ -27,6 +27,11 @@ addr=127.0.0.1:$(cat "$out/port")
 "$bin/hapsim-viewer" --headless --server "$addr" --session demo --obj "$out/viewer.obj" \
     >"$out/viewer.out" 2>"$out/viewer.log" &
 viewer=$!; pids+=("$viewer")
+# A second viewer draws the last frame and its force plots off screen (EGL;
+# no display needed) when it is stopped.
+"$bin/hapsim-viewer" --headless --server "$addr" --session demo --png "$out/viewer.png" \
+    --plot-png "$out/force.png" >"$out/picture.out" 2>"$out/picture.log" &
+picture=$!; pids+=("$picture")
 script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10 --hold-s 0.5)
 [ "$scene" = acupuncture ] && script_args=(--script constant_speed --start-height-mm 2 --depth-mm 30 --speed-mm-s 20 --keep-running)
 # A 20 mm incision along +x, 1.5 mm deep at 10 mm/s, then the blade waits above the wound.
@@ -40,6 +45,7 @@ wait "$bridge"
 sleep 0.3
 "$bin/hapsim-ctl" --server "$addr" list >"$out/sessions.txt"
 kill -TERM "$viewer" && wait "$viewer" || true
+kill -TERM "$picture" && wait "$picture" || true
 kill -TERM "$server" && wait "$server" || true
 pids=()
 
@@ -68,6 +74,6 @@ hapsim demo summary (${seconds} s on loopback, scene ${scene})
   force-model RTT     ${rtt} ms (${models} models received by the bridge)
   viewer              ${frames} frames (${keyframes} keyframe), ${bytes} bytes, ${gaps} gaps; events:${events}
   peak contact force  ${force} rendered (clamp 2.5 N); physics peak ${physics_force} N
-  files               ${out}/ (logs, trace.csv, viewer.obj)
+  files               ${out}/ (logs, trace.csv, viewer.obj, viewer.png, force.png)
 SUMMARY
 if [ -n "$cuts" ]; then echo "  cutting             ${cuts}"; fi

@@ -6,6 +6,8 @@
 // same frame with no mesh (panels and clear only). Frames per second =
 // 1 / (time per iteration). See docs/viewer.md for the figures.
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include <benchmark/benchmark.h>
@@ -18,6 +20,7 @@
 #include "hapsim/gui/orbit_camera.h"
 #include "hapsim/gui/scene_renderer.h"
 #include "hapsim/gui/viewer_panels.h"
+#include "hapsim/viewer/frame_log.h"
 
 namespace {
 
@@ -55,6 +58,7 @@ hapsim::v1::Frame Sheet(int n) {
 
 void BM_ViewerFrame(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));  // grid side; 0: no mesh (baseline)
+  const bool panels = state.range(1) != 0;
   std::string error;
   auto gl = gui::HeadlessGl::Open(kW, kH, &error);
   if (!gl) {
@@ -86,13 +90,15 @@ void BM_ViewerFrame(benchmark::State& state) {
     ImGui::GetIO().DeltaTime = 1.0f / 60.0f;
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(0, 0));
-    ImGui::SetNextWindowSize(ImVec2(380, kH));
-    ImGui::Begin("hapsim");
-    gui::DrawSessionPanel(scene, "bench", "127.0.0.1", rate, &view, nullptr);
-    gui::DrawForcePlots(scene, 0.0f, 150.0f);
-    gui::DrawEventList(scene);
-    ImGui::End();
+    if (panels) {
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(380, kH));
+      ImGui::Begin("hapsim");
+      gui::DrawSessionPanel(scene, "bench", "127.0.0.1", rate, &view, nullptr);
+      gui::DrawForcePlots(scene, 0.0f, 150.0f);
+      gui::DrawEventList(scene);
+      ImGui::End();
+    }
     ImGui::Render();
     glBindFramebuffer(GL_FRAMEBUFFER, gl->framebuffer());
     renderer.Upload(scene);
@@ -106,9 +112,34 @@ void BM_ViewerFrame(benchmark::State& state) {
   ImGui::DestroyContext();
   state.SetLabel(gl->Renderer());
 }
-// 0: baseline (panels only); 71^2 = 5041 and 224^2 = 50176 vertices.
-BENCHMARK(BM_ViewerFrame)->Arg(0)->Arg(71)->Arg(224)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(3.0);
+// Grid side 0: baseline (no mesh); 71^2 = 5041 and 224^2 = 50176 vertices;
+// second argument: with the panels (1) or the 3D view alone (0).
+BENCHMARK(BM_ViewerFrame)
+    ->ArgsProduct({{0, 71, 224}, {1, 0}})
+    ->ArgNames({"grid", "panels"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(3.0);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+// HAPSIM_BENCH_RECORDINGS=DIR also writes the sheets as recordings
+// (DIR/sheet_71.frames, DIR/sheet_224.frames) so the whole viewer can be
+// timed on them: hapsim-viewer --replay FILE --benchmark-seconds S.
+int main(int argc, char** argv) {
+  if (const char* dir = std::getenv("HAPSIM_BENCH_RECORDINGS")) {
+    for (const int n : {71, 224}) {
+      hapsim::viewer::FrameLogWriter writer;
+      std::string error;
+      const std::string path = std::string(dir) + "/sheet_" + std::to_string(n) + ".frames";
+      if (!writer.Open(path, &error) || !writer.Write(Sheet(n))) {
+        std::fprintf(stderr, "%s\n", error.c_str());
+        return 1;
+      }
+    }
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -26,6 +26,24 @@ expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-viewer" --session s --seconds 1e300
 expect 2 "--connect-timeout-s must be within (0, 3600]" "$bin/hapsim-viewer" --session s --connect-timeout-s 1e16
 expect 2 "--max-rate-hz must be within 0 or \[0.01, 1000\]" "$bin/hapsim-viewer" --session s --max-rate-hz 1e-12
+# The viewer's picture flags (issue 14): named before any window or connection.
+if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
+  expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --headless --png x.png --size 10x10
+  expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --size 1280
+  expect 2 "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH" "$bin/hapsim-viewer" --session s --camera 0,0,0,-1,0,0
+  expect 2 "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH" "$bin/hapsim-viewer" --session s --camera 0,0,nan,1,0,0
+  expect 2 "--benchmark-seconds must be within \[0, 3600\]" "$bin/hapsim-viewer" --session s --benchmark-seconds 1e9
+  expect 2 "--class-rate-hz must be within \[0.1, 50\]" "$bin/hapsim-viewer" --class c --class-rate-hz 0
+  expect 2 "give --session, --class or --replay" "$bin/hapsim-viewer" --session "" --headless --png x.png
+  expect 1 "cannot read /nonexistent.frames" "$bin/hapsim-viewer" --headless --replay /nonexistent.frames --png x.png
+  printf 'garbage!' >"${TMPDIR:-/tmp}/hapsim-garbage.frames"
+  expect 1 "not a hapsim frame recording" "$bin/hapsim-viewer" --headless --replay "${TMPDIR:-/tmp}/hapsim-garbage.frames" --png x.png
+  rm -f "${TMPDIR:-/tmp}/hapsim-garbage.frames"
+  recording="$(cd "$(dirname "$0")/.." && pwd)/viewer-gui/data/acupuncture.frames"
+  expect 1 "cannot write /nonexistent-dir/x.png" "$bin/hapsim-viewer" --headless --replay "$recording" --png /nonexistent-dir/x.png
+  # No display: a clear message, not a crash.
+  expect 1 "without a display use --headless or --png" env -u DISPLAY -u WAYLAND_DISPLAY "$bin/hapsim-viewer" --session s
+fi
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-bridge" --seconds 1e20
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-load" --seconds 1e20
 expect 2 "hold time must be in \[0, 1e7\] s" "$bin/hapsim-bridge" --hold-s 1e300

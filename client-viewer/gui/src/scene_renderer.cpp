@@ -186,8 +186,15 @@ void SceneRenderer::Upload(const SceneView& scene) {
   glBindVertexArray(mesh_vao_);
   if (scene.version != uploaded_version_) {
     glBindBuffer(GL_ARRAY_BUFFER, mesh_positions_);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.positions_m.size() * sizeof(float)),
-                 scene.positions_m.data(), GL_STREAM_DRAW);
+    const std::size_t bytes = scene.positions_m.size() * sizeof(float);
+    // Same size: overwrite in place (a new store every frame costs llvmpipe
+    // fresh pages, i.e. page faults, for the whole array).
+    if (bytes == positions_bytes_) {
+      glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(bytes), scene.positions_m.data());
+    } else {
+      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(bytes), scene.positions_m.data(), GL_DYNAMIC_DRAW);
+      positions_bytes_ = bytes;
+    }
     uploaded_version_ = scene.version;
   }
   if (scene.topology_stamp != uploaded_topology_) {

@@ -52,6 +52,7 @@ class SceneRenderer {
   int u_view_projection_ = -1, u_model_ = -1, u_colour_ = -1, u_alpha_ = -1, u_eye_ = -1;
   unsigned mesh_vao_ = 0, mesh_positions_ = 0, mesh_indices_ = 0;
   std::uint64_t uploaded_version_ = ~0ull, uploaded_topology_ = ~0ull;
+  std::size_t positions_bytes_ = 0;
   struct PartRange {
     std::uint16_t part = 0;
     std::size_t first = 0, count = 0;  // in indices

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The viewer's frame rate on software rendering (Mesa llvmpipe), issue 14.
+# Not a test: run by hand, figures in docs/viewer.md. Usage:
+#   tests/bench/viewer_fps.sh [BUILD_DIR] [SECONDS]
+# 1. bench_viewer_render: one viewer frame (upload every vertex, draw mesh +
+#    tool + arrow, ImGui panels with a 30 000-sample history), off screen,
+#    side by side with the baseline of no mesh.
+# 2. hapsim-viewer itself replaying a 5k and a 50k-vertex recording flat out
+#    (--benchmark-seconds), off screen (EGL) and in a window under Xvfb.
+set -euo pipefail
+build=${1:-build}
+seconds=${2:-6}
+bin=$build/bin
+work=$(mktemp -d)
+trap 'kill $xvfb 2>/dev/null || true; rm -rf "$work"' EXIT
+HAPSIM_BENCH_RECORDINGS=$work "$bin/bench_viewer_render" --benchmark_min_time=3 2>&1 | grep -E "^BM_|^Benchmark|^---"
+Xvfb -displayfd 3 -screen 0 1920x1080x24 -nolisten tcp 3>"$work/display" 2>/dev/null &
+xvfb=$!
+for _ in $(seq 1 50); do [ -s "$work/display" ] && break; sleep 0.1; done
+for grid in 71 224; do
+  for mode in off-screen window; do
+    for panels in true false; do
+      flags=(--replay "$work/sheet_$grid.frames" --benchmark-seconds "$seconds" --panels="$panels")
+      [ "$mode" = off-screen ] && flags+=(--headless)
+      printf '%-10s panels=%-5s ' "$mode" "$panels"
+      DISPLAY=":$(cat "$work/display")" "$bin/hapsim-viewer" "${flags[@]}" | grep '^benchmark'
+    done
+  done
+done
