@@ -4,6 +4,8 @@
 #   OUT/viewer-acupuncture.png   one trainee's needle in the acupuncture scene, with the panels
 #   OUT/viewer-force-depth.png   its force vs time and force vs depth plots
 #   OUT/class-console.png        the instructor's class console of 6 trainees (tokens, TLS)
+#   OUT/viewer-cutting.png       a 20 mm incision, the wound gaping (topology edits)
+#   OUT/viewer-vessel.png        a probe pressing the dorsal vein 2 mm
 # Usage: deploy/make-screenshots.sh [BUILD_DIR] [OUT_DIR]   (defaults: build, docs)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -34,7 +36,22 @@ sleep 0.5
     >viewer.out
 kill -TERM "${pids[@]}" 2>/dev/null || true; wait 2>/dev/null || true; pids=()
 
-# 2. A class of 6 with tokens and TLS, driven by the load generator.
+# 2. A cut and a vessel press, side by side on one server.
+start_server --sessions c:cutting,v:vessel
+"$bin/hapsim-bridge" --session c --dds-domain "$domain" --script cut --start-height-mm 5 --depth-mm 1.5 \
+    --speed-mm-s 10 --entry-x-mm -10 --cut-length-mm 20 --keep-running >cut.out 2>&1 &
+pids+=($!)
+"$bin/hapsim-bridge" --session v --dds-domain "$domain" --script insertion --start-height-mm 3 --depth-mm 2 \
+    --speed-mm-s 5 --hold-s 30 >vessel.out 2>&1 &
+pids+=($!)
+sleep 5
+"$bin/hapsim-viewer" --headless --server "$addr" --session c --seconds 1.5 --size 960x540 --panels=false \
+    --camera 0,0,0,0.06,-25,40 --png "$out/viewer-cutting.png" >>viewer.out
+"$bin/hapsim-viewer" --headless --server "$addr" --session v --seconds 1.5 --size 960x540 --panels=false \
+    --png "$out/viewer-vessel.png" >>viewer.out
+kill -TERM "${pids[@]}" 2>/dev/null || true; wait 2>/dev/null || true; pids=()
+
+# 3. A class of 6 with tokens and TLS, driven by the load generator.
 bash "$root/deploy/make-dev-certs.sh" certs >/dev/null
 bash "$root/deploy/make-class.sh" class acu-101 6 acupuncture 10 >/dev/null
 start_server --class-config class/class.toml --tls-cert certs/server.pem --tls-key certs/server.key

@@ -66,7 +66,8 @@ std::array<float, 3> PartColour(const std::string& name) {
       {"skin", {0.91f, 0.72f, 0.62f}},   {"fat", {0.98f, 0.88f, 0.52f}},    {"muscle", {0.72f, 0.22f, 0.22f}},
       {"needle", {0.78f, 0.78f, 0.82f}}, {"blade", {0.78f, 0.78f, 0.82f}},  {"probe", {0.78f, 0.78f, 0.82f}},
       {"wound", {0.55f, 0.08f, 0.08f}},  {"vessel", {0.45f, 0.20f, 0.45f}}, {"wall", {0.45f, 0.20f, 0.45f}},
-      {"bed", {0.85f, 0.65f, 0.55f}},    {"tissue", {0.91f, 0.66f, 0.60f}}};
+      {"bed", {0.85f, 0.65f, 0.55f}},    {"tissue", {0.91f, 0.66f, 0.60f}}, {"vessel_wall", {0.55f, 0.30f, 0.55f}},
+      {"lumen", {0.60f, 0.10f, 0.12f}}};
   const auto found = kColours.find(name);
   return found == kColours.end() ? std::array<float, 3>{0.7f, 0.7f, 0.7f} : found->second;
 }

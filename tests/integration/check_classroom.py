@@ -44,6 +44,18 @@ punctures = len(re.findall(r"puncture@", read("watch.out")))
 check(punctures > 0, f"puncture events shown in the recent-events column ({punctures} times)")
 
 check(rc("observer_watch") == 0, "observer may watch the class")
+if os.path.exists(f"{work}/console.rc"):  # built with the viewer GUI
+    console = open(f"{work}/console.out").read()
+    m = re.search(r"viewer: class acu-101, updates (\d+), sessions (\d+)", console)
+    check(rc("console") == 0 and m is not None and int(m.group(1)) >= 20 and int(m.group(2)) == 8,
+          f"the observer's class console got the class stream ({m.group(0) if m else console.strip()!r})")
+    m = re.search(r"viewer: session t2, frames (\d+)", console)
+    check(m is not None and int(m.group(1)) > 50, "the console watched t2's frames")
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from png_image import pixel, read_png
+    image = read_png(f"{work}/console.png")
+    colours = {pixel(image, x, y) for x in range(0, 1280, 16) for y in range(0, 720, 16)}
+    check(len(colours) > 50, f"the console picture is not blank ({len(colours)} colours on a 16 px grid)")
 check(rc("observer_reset") != 0 and "(7)" in read("observer_reset.err"),
         f"observer reset refused with PERMISSION_DENIED: {read('observer_reset.err').strip()}")
 check(rc("trainee_join") == 0 and "dds_partition=hapsim_s_t1" in read("trainee_join.out"),

@@ -35,7 +35,15 @@ run() { local name=$1 code=0; shift; "$@" >"$name.out" 2>"$name.err" || code=$?;
 load=$!; pids+=("$load")
 # The instructor's live table (a pipe, so one block per update): 10 Hz for 6 s.
 sleep 0.5
+# The observer's class console (issue 14), drawn off screen while the table runs.
+console=""
+if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
+  "$bin/hapsim-viewer" --headless "${tls[@]}" --token-file class/tokens/observer.token --class acu-101 \
+      --session t2 --seconds 4 --size 1280x720 --png console.png >console.out 2>console.err &
+  console=$!; pids+=("$console")
+fi
 run watch as instructor watch acu-101 --rate-hz 10 --count 60
+if [ -n "$console" ]; then wait "$console" && echo 0 >console.rc || echo $? >console.rc; fi
 run observer_watch as observer watch acu-101 --count 2
 run observer_reset as observer reset t2
 run trainee_join as trainee1 join t1

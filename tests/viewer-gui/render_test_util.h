@@ -37,6 +37,7 @@ inline hapsim::v1::Frame GridKeyframe(int g, double half_m, const std::string& p
     }
   key->add_part_names(part);
   key->add_layer_names(part);
+  key->add_layer_names("muscle");  // a second layer below: skin and fat may be drawn see-through
   key->set_vertex_capacity(static_cast<std::uint32_t>(g * g));
   key->set_triangle_capacity(static_cast<std::uint32_t>(2 * (g - 1) * (g - 1)));
   return frame;

@@ -104,6 +104,21 @@ TEST_F(SceneRendererTest, SkinIsSeeThroughOverTheNeedle) {
   EXPECT_GT(a[2], b[2] + 20) << "the steel shows through the skin";
 }
 
+TEST_F(SceneRendererTest, ASingleSkinLayerStaysOpaque) {
+  auto frame = GridKeyframe(5, 0.01, "skin");
+  frame.mutable_keyframe()->mutable_layer_names()->RemoveLast();  // the cutting patch: skin only
+  auto* tool = frame.mutable_tool();
+  for (const double v : {0.0, 0.0, -0.004}) tool->add_tip_m(v);
+  for (const double v : {1.0, 0.0, 0.0, 0.0}) tool->add_orientation_wxyz(v);
+  OrbitCamera side = LookingDown();
+  side.pose.pitch_deg = 30.0;
+  const Image image = Render(frame, side);  // see-through on (the default)
+  Eigen::Vector2d under;
+  ASSERT_TRUE(side.ToPixel(Eigen::Vector3d(0.0, 0.0, -0.002), kW, kH, &under));
+  const auto p = Pixel(image, under.x(), under.y());
+  EXPECT_GT(p[0], p[2] + 40) << "skin colour, the needle under it hidden";
+}
+
 TEST_F(SceneRendererTest, TheToolIsDrawnAtItsPose) {
   auto frame = GridKeyframe(5, 0.01, "muscle");
   auto* tool = frame.mutable_tool();

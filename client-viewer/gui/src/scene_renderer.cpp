@@ -257,12 +257,15 @@ void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int 
   const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
   const std::vector<std::string> no_names;
   const auto& names = scene.triangles ? scene.triangles->part_names : no_names;
+  const bool layered = scene.layer_names.size() > 1;
   auto draw_parts = [&](bool translucent_pass) {
     glUniformMatrix4fv(u_model_, 1, GL_FALSE, identity.data());
     glBindVertexArray(mesh_vao_);
     for (const auto& range : ranges_) {
       const std::string& name = range.part < names.size() ? names[range.part] : "";
-      const bool translucent = options.see_through_layers && IsTranslucentLayer(name);
+      // Only over other layers (acupuncture's skin over fat over muscle): a
+      // single skin (the cutting patch) stays opaque.
+      const bool translucent = options.see_through_layers && layered && IsTranslucentLayer(name);
       if (translucent != translucent_pass) continue;
       const auto rgb = viewer::PartColour(name);
       glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);

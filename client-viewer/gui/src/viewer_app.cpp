@@ -299,6 +299,12 @@ int RunViewerGui(const GuiOptions& options) {
               static_cast<unsigned long long>(drawn_with_mesh), static_cast<unsigned long long>(scene.seq),
               scene.sim_time_s, scene.connection.c_str());
   if (stream) std::printf("viewer: reconnects %llu\n", static_cast<unsigned long long>(stream->reconnects()));
+  if (board) {
+    const ClassView class_view = board->View();
+    std::printf("viewer: class %s, updates %llu, sessions %zu, not running %zu, %s\n", class_view.class_name.c_str(),
+                static_cast<unsigned long long>(class_view.updates), class_view.sessions.size(),
+                class_view.missing.size(), class_view.connection.c_str());
+  }
   std::fflush(stdout);
   stream.reset();
   board.reset();

@@ -16,7 +16,7 @@
 namespace hapsim::gui {
 
 struct RenderOptions {
-  bool see_through_layers = true;  // draw "skin" and "fat" translucent
+  bool see_through_layers = true;  // draw "skin" and "fat" translucent when the scene has several layers
   bool show_tool = true;
   bool show_force = true;
   bool show_events = true;
