@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
 # Soak (issue 15; not in CI): SESSIONS tissue_block sessions driven by
 # hapsim-load, VIEWERS viewers following them, one more viewer connecting
-# and disconnecting every second, for SECONDS; the server pinned to core 0,
+# and disconnecting every second (CHURN=0: not), for SECONDS; the server pinned to core 0,
 # every client to core 1. Samples the server's RSS every 10 s; writes
 # rss.csv, load.json/load.out (late ticks, round trip, model age) and a
 # summary to OUT_DIR. Loopback only; every process is killed on exit.
-# Usage: tests/bench/soak.sh BIN_DIR OUT_DIR   (SESSIONS=32 VIEWERS=8 SECONDS=600)
+# Usage: tests/bench/soak.sh BIN_DIR OUT_DIR   (SESSIONS=32 VIEWERS=8 SECONDS_TOTAL=600 CHURN=1)
 set -euo pipefail
 bin=${1:?usage: $0 BIN_DIR OUT_DIR}
 out=${2:?usage: $0 BIN_DIR OUT_DIR}
-sessions=${SESSIONS:-32}; viewers=${VIEWERS:-8}; seconds=${SECONDS_TOTAL:-600}
+sessions=${SESSIONS:-32}; viewers=${VIEWERS:-8}; seconds=${SECONDS_TOTAL:-600}; churning=${CHURN:-1}
 rm -rf "$out" && mkdir -p "$out" && cd "$out"
 domain=$((150 + RANDOM % 60))
 pids=()
@@ -29,9 +29,12 @@ for v in $(seq 0 $((viewers - 1))); do
   pids+=("$!")
 done
 # The churning viewer: connects, takes a keyframe, disconnects, every second.
-( while true; do timeout 1 taskset -c 1 "$bin/hapsim-viewer" --headless --server "$addr" --session load-0 --seconds 0.8 \
-      >/dev/null 2>&1 || true; done ) &
-churn=$!; pids+=("$churn")
+churn=
+if [ "$churning" = 1 ]; then
+  ( while true; do timeout 1 taskset -c 1 "$bin/hapsim-viewer" --headless --server "$addr" --session load-0 --seconds 0.8 \
+        >/dev/null 2>&1 || true; done ) &
+  churn=$!; pids+=("$churn")
+fi
 echo "t_s,rss_kib" >rss.csv
 start=$(date +%s)
 while kill -0 "$load" 2>/dev/null; do
@@ -39,11 +42,11 @@ while kill -0 "$load" 2>/dev/null; do
   sleep 10
 done
 wait "$load" || true
-kill "$churn" 2>/dev/null || true
+[ -n "$churn" ] && kill "$churn" 2>/dev/null || true
 kill -TERM "$server"; wait "$server" || echo "server exit code $?" >>summary.txt
 head -1 rss.csv >/dev/null
 {
-  echo "soak: $sessions sessions, $viewers viewers + 1 churning, ${seconds} s"
+  echo "soak: $sessions sessions, $viewers viewers + $churning churning, ${seconds} s"
   echo "server RSS (KiB) first/after 60 s/last: $(sed -n 2p rss.csv | cut -d, -f2) / $(awk -F, 'NR>1 && $1>=60 {print $2; exit}' rss.csv) / $(tail -1 rss.csv | cut -d, -f2)"
   grep -E "round trip|model age|late|sessions" load.out | head -8
   tail -2 server.out

@@ -19,6 +19,7 @@
 #include "hapsim/gui/live_scene.h"
 #include "hapsim/gui/orbit_camera.h"
 #include "hapsim/gui/scene_renderer.h"
+#include "hapsim/gui/vertex_normals.h"
 #include "hapsim/gui/viewer_panels.h"
 #include "hapsim/viewer/frame_log.h"
 
@@ -122,6 +123,23 @@ BENCHMARK(BM_ViewerFrame)
     ->MinTime(3.0);
 
 }  // namespace
+
+// The CPU side of lighting per vertex: normals of every vertex from the
+// triangles, done each time a frame moves the mesh.
+void BM_VertexNormals(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  viewer::MeshCache cache;
+  cache.Apply(Sheet(n));
+  const viewer::CompactMesh mesh = cache.Compact();
+  std::vector<float> positions(mesh.vertices_m.data(), mesh.vertices_m.data() + mesh.vertices_m.size());
+  std::vector<float> normals;
+  for (auto _ : state) {
+    gui::ComputeVertexNormals(positions, mesh.triangles, &normals);
+    benchmark::DoNotOptimize(normals.data());
+  }
+  state.counters["vertices"] = static_cast<double>(n) * n;
+}
+BENCHMARK(BM_VertexNormals)->Arg(71)->Arg(224)->ArgName("grid")->Unit(benchmark::kMillisecond);
 
 // HAPSIM_BENCH_RECORDINGS=DIR also writes the sheets as recordings
 // (DIR/sheet_71.frames, DIR/sheet_224.frames) so the whole viewer can be

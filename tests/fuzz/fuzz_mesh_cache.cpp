@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/mesh/mesh_topology.h"
+#include "grid_session.h"
+
 #include "hapsim/service/frame_encoder.h"
-#include "hapsim/service/snapshot_ring.h"
 #include "hapsim/viewer/mesh_cache.h"
 
 namespace {
@@ -26,37 +26,11 @@ namespace {
 using namespace hapsim;
 
 // A 6 x 6 grid with room for a cut's edits, and the server side of a stream.
-struct Server {
-  Eigen::Matrix3Xd x_m;
-  core::MeshTopology topology;
-  service::SnapshotRing ring;
-  service::TopologyHistory history;
-  std::shared_ptr<const std::vector<std::string>> part_names;
-  std::uint64_t taken = 0, id = 0;
+struct Server : fuzz::GridSession {
   service::StreamEncoderState encoder;
-
-  Server()
-      : x_m(Eigen::Matrix3Xd::Zero(3, 48)),
-        topology({.vertex_capacity = 48, .triangle_capacity = 72, .part_names = {"skin", "wound"}, .log_capacity = 256}),
-        ring({48, 72, 0, 256}) {
-    for (int i = 0; i < 6; ++i)
-      for (int j = 0; j < 6; ++j) x_m.col(topology.AddVertex()) = Eigen::Vector3d(i * 0.003, j * 0.003, 0.0);
-    for (int i = 0; i + 1 < 6; ++i)
-      for (int j = 0; j + 1 < 6; ++j) {
-        const auto a = static_cast<std::uint32_t>(i * 6 + j), b = a + 1, c = a + 6, d = c + 1;
-        topology.AddTriangle(a, c, b, 0);
-        topology.AddTriangle(b, c, d, 0);
-      }
-    topology.Seal();
-    part_names = std::make_shared<const std::vector<std::string>>(topology.PartNames());
-  }
   std::string NextFrame() {
-    auto s = ring.Acquire();
-    service::CopyMesh(x_m, topology, taken, s.get());
-    s->id = ++id;
-    s->part_names = part_names;
+    const auto s = Publish();
     history.Absorb(*s);
-    taken = history.End();
     v1::Frame f;
     service::EncodeFrame(*s, history, &encoder, &f);
     return f.SerializeAsString();

@@ -8,42 +8,47 @@
 #include <Eigen/Geometry>
 
 #include "hapsim/gui/gl.h"
+#include "hapsim/gui/vertex_normals.h"
 #include "hapsim/viewer/mesh_export.h"
 
 namespace hapsim::gui {
 
 namespace {
 
+// Lit per vertex (Gouraud) from the eye and from above, both sides of a
+// face alike (cut surfaces are seen from inside); the fragment shader only
+// passes the colour on. Software rendering (llvmpipe) shades whole 4x4
+// pixel blocks for every tiny triangle of a fine mesh, so per-pixel lighting
+// cost twice the frame time at 50k vertices (docs/viewer.md, frame rates).
 constexpr const char* kVertexShader = R"(#version 330 core
 layout(location = 0) in vec3 position_m;
+layout(location = 1) in vec3 normal;
 uniform mat4 view_projection;
 uniform mat4 model;
-out vec3 world_m;
-void main() {
-  vec4 w = model * vec4(position_m, 1.0);
-  world_m = w.xyz;
-  gl_Position = view_projection * w;
-}
-)";
-
-// Flat shading from the screen-space derivatives of the world position (no
-// normals to send or recompute as the tissue deforms), lit from the eye and
-// from above, both sides of a face alike (cut surfaces are seen from inside).
-constexpr const char* kFragmentShader = R"(#version 330 core
-in vec3 world_m;
+uniform mat3 normal_matrix;
 uniform vec3 colour;
 uniform float alpha;
 uniform vec3 eye_m;
-out vec4 out_colour;
+out vec4 lit_colour;
 void main() {
-  vec3 n = normalize(cross(dFdx(world_m), dFdy(world_m)));
-  vec3 to_eye = normalize(eye_m - world_m);
+  vec4 w = model * vec4(position_m, 1.0);
+  gl_Position = view_projection * w;
+  vec3 to_eye = normalize(eye_m - w.xyz);
+  vec3 n = normal_matrix * normal;
+  float length_n = length(n);
+  n = length_n > 1e-6 ? n / length_n : to_eye;
   if (dot(n, to_eye) < 0.0) n = -n;
   vec3 key = normalize(vec3(0.3, -0.4, 1.0));
   float diffuse = 0.55 * max(dot(n, to_eye), 0.0) + 0.35 * max(dot(n, key), 0.0);
   float specular = 0.25 * pow(max(dot(reflect(-key, n), to_eye), 0.0), 24.0);
-  out_colour = vec4(colour * (0.22 + diffuse) + vec3(specular), alpha);
+  lit_colour = vec4(colour * (0.22 + diffuse) + vec3(specular), alpha);
 }
+)";
+
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec4 lit_colour;
+out vec4 out_colour;
+void main() { out_colour = lit_colour; }
 )";
 
 unsigned Compile(unsigned kind, const char* source) {
@@ -66,7 +71,7 @@ float LayerAlpha(const std::string& part) { return part == "skin" ? 0.35f : 0.5f
 }  // namespace
 
 struct SceneRenderer::Solid {
-  unsigned vao = 0, positions = 0, indices = 0;
+  unsigned vao = 0, positions = 0, normals = 0, indices = 0;
   int count = 0;
   Solid(const std::vector<float>& p, const std::vector<std::uint32_t>& tri) {
     glGenVertexArrays(1, &vao);
@@ -76,6 +81,13 @@ struct SceneRenderer::Solid {
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(p.size() * sizeof(float)), p.data(), GL_STATIC_DRAW);
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     glEnableVertexAttribArray(0);
+    std::vector<float> n;
+    ComputeVertexNormals(p, tri, &n);
+    glGenBuffers(1, &normals);
+    glBindBuffer(GL_ARRAY_BUFFER, normals);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(n.size() * sizeof(float)), n.data(), GL_STATIC_DRAW);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    glEnableVertexAttribArray(1);
     glGenBuffers(1, &indices);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, indices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(tri.size() * sizeof(std::uint32_t)), tri.data(),
@@ -85,6 +97,7 @@ struct SceneRenderer::Solid {
   }
   ~Solid() {
     glDeleteBuffers(1, &positions);
+    glDeleteBuffers(1, &normals);
     glDeleteBuffers(1, &indices);
     glDeleteVertexArrays(1, &vao);
   }
@@ -133,6 +146,12 @@ Eigen::Matrix4f Along(const Eigen::Vector3d& from, const Eigen::Vector3d& direct
   return m.matrix().cast<float>();
 }
 
+// Normals go through the inverse transpose of the model's linear part (the
+// solids are scaled unevenly: thin and long).
+Eigen::Matrix3f NormalMatrix(const Eigen::Matrix4f& model) {
+  return model.topLeftCorner<3, 3>().inverse().transpose();
+}
+
 }  // namespace
 
 SceneRenderer::SceneRenderer() {
@@ -151,12 +170,17 @@ SceneRenderer::SceneRenderer() {
   u_colour_ = glGetUniformLocation(program_, "colour");
   u_alpha_ = glGetUniformLocation(program_, "alpha");
   u_eye_ = glGetUniformLocation(program_, "eye_m");
+  u_normal_matrix_ = glGetUniformLocation(program_, "normal_matrix");
   glGenVertexArrays(1, &mesh_vao_);
   glBindVertexArray(mesh_vao_);
   glGenBuffers(1, &mesh_positions_);
   glBindBuffer(GL_ARRAY_BUFFER, mesh_positions_);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(0);
+  glGenBuffers(1, &mesh_normals_);
+  glBindBuffer(GL_ARRAY_BUFFER, mesh_normals_);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(1);
   glGenBuffers(1, &mesh_indices_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
   glBindVertexArray(0);
@@ -177,27 +201,40 @@ SceneRenderer::~SceneRenderer() {
   cone_.reset();
   octahedron_.reset();
   glDeleteBuffers(1, &mesh_positions_);
+  glDeleteBuffers(1, &mesh_normals_);
   glDeleteBuffers(1, &mesh_indices_);
   glDeleteVertexArrays(1, &mesh_vao_);
   glDeleteProgram(program_);
 }
 
+// Replaces a buffer's contents: in place when the size is unchanged (a new
+// store every frame costs llvmpipe fresh pages, i.e. page faults, for the
+// whole array).
+void SceneRenderer::Overwrite(unsigned target, unsigned buffer, const void* data, std::size_t bytes,
+                              std::size_t* stored_bytes) {
+  glBindBuffer(target, buffer);
+  if (bytes == *stored_bytes) {
+    glBufferSubData(target, 0, static_cast<GLsizeiptr>(bytes), data);
+  } else {
+    glBufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+    *stored_bytes = bytes;
+  }
+}
+
 void SceneRenderer::Upload(const SceneView& scene) {
   glBindVertexArray(mesh_vao_);
-  if (scene.version != uploaded_version_) {
-    glBindBuffer(GL_ARRAY_BUFFER, mesh_positions_);
-    const std::size_t bytes = scene.positions_m.size() * sizeof(float);
-    // Same size: overwrite in place (a new store every frame costs llvmpipe
-    // fresh pages, i.e. page faults, for the whole array).
-    if (bytes == positions_bytes_) {
-      glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(bytes), scene.positions_m.data());
-    } else {
-      glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(bytes), scene.positions_m.data(), GL_DYNAMIC_DRAW);
-      positions_bytes_ = bytes;
-    }
+  const bool moved = scene.version != uploaded_version_, cut = scene.topology_stamp != uploaded_topology_;
+  if (moved) {
+    Overwrite(GL_ARRAY_BUFFER, mesh_positions_, scene.positions_m.data(), scene.positions_m.size() * sizeof(float),
+              &positions_bytes_);
     uploaded_version_ = scene.version;
   }
-  if (scene.topology_stamp != uploaded_topology_) {
+  if (moved || cut) {
+    static const std::vector<std::uint32_t> kNone;
+    ComputeVertexNormals(scene.positions_m, scene.triangles ? scene.triangles->vertices : kNone, &normals_);
+    Overwrite(GL_ARRAY_BUFFER, mesh_normals_, normals_.data(), normals_.size() * sizeof(float), &normals_bytes_);
+  }
+  if (cut) {
     // Sort the triangles by part so each part is one draw call.
     ranges_.clear();
     std::vector<std::uint32_t> sorted;
@@ -231,6 +268,8 @@ double SceneRenderer::ToolLength_m(const SceneView& scene) {
 
 void SceneRenderer::DrawSolid(const Solid& solid, const Eigen::Matrix4f& model, const float rgb[3], float alpha) {
   glUniformMatrix4fv(u_model_, 1, GL_FALSE, model.data());
+  const Eigen::Matrix3f normal_matrix = NormalMatrix(model);
+  glUniformMatrix3fv(u_normal_matrix_, 1, GL_FALSE, normal_matrix.data());
   glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);
   glUniform1f(u_alpha_, alpha);
   glBindVertexArray(solid.vao);
@@ -260,6 +299,8 @@ void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int 
   const bool layered = scene.layer_names.size() > 1;
   auto draw_parts = [&](bool translucent_pass) {
     glUniformMatrix4fv(u_model_, 1, GL_FALSE, identity.data());
+    const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
+    glUniformMatrix3fv(u_normal_matrix_, 1, GL_FALSE, identity3.data());
     glBindVertexArray(mesh_vao_);
     for (const auto& range : ranges_) {
       const std::string& name = range.part < names.size() ? names[range.part] : "";

@@ -7,7 +7,6 @@
 #include <memory>
 #include <thread>
 
-#include <malloc.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -85,11 +84,6 @@ void HandleMouse(const ImGuiIO& io, OrbitCamera* camera, ViewState* view, int he
 }  // namespace
 
 int RunViewerGui(const GuiOptions& options) {
-  // llvmpipe allocates its per-draw vertex buffers afresh every frame; above
-  // glibc's mmap threshold each is a new mapping, i.e. page faults for every
-  // vertex every frame (15 % of the time at 50k vertices). Keep them on the heap.
-  mallopt(M_MMAP_THRESHOLD, 256 << 20);
-  mallopt(M_TRIM_THRESHOLD, 512 << 20);
   std::string error;
   std::unique_ptr<GlWindow> window;
   std::unique_ptr<HeadlessGl> headless;

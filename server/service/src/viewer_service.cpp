@@ -15,8 +15,6 @@ namespace {
 using hapsim::v1::Frame;
 using hapsim::v1::ViewerMessage;
 
-constexpr std::uint32_t kMaxAckWindow = 64;
-
 // One Subscribe stream. Reads the subscribe request, then keeps reading acks
 // for the whole stream; frames are written by the frame pump via the link.
 class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Frame>, public ViewerLink::Stream {
@@ -90,19 +88,11 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
         return ToGrpcStatus(e);
       }
     }
-    const double rate = req.max_rate_hz();
-    // A positive rate below 0.01 Hz (one frame per 100 s) would overflow the
-    // frame interval in nanoseconds; nobody watches a session that slowly.
-    if (!std::isfinite(rate) || rate < 0.0 || (rate > 0.0 && rate < 0.01)) {
-      return {grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be 0 (the session's frame rate) or >= 0.01"};
-    }
-    if (req.ack_window() > kMaxAckWindow) {
-      return {grpc::StatusCode::INVALID_ARGUMENT, "ack_window must be at most " + std::to_string(kMaxAckWindow)};
-    }
+    if (grpc::Status fields = CheckSubscribeRequest(req); !fields.ok()) return fields;
     session_ = registry_->Find(req.session_id());
     if (!session_) return {grpc::StatusCode::NOT_FOUND, "no session '" + req.session_id().substr(0, 80) + "'"};
     std::string name = req.viewer_name().empty() ? peer_ : req.viewer_name().substr(0, 80);
-    auto link = std::make_shared<ViewerLink>(std::move(name), rate, quantum_m_, req.ack_window());
+    auto link = std::make_shared<ViewerLink>(std::move(name), req.max_rate_hz(), quantum_m_, req.ack_window());
     link->Attach(this);
     {
       std::lock_guard lock(link_mutex_);
@@ -128,6 +118,19 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
 };
 
 }  // namespace
+
+grpc::Status CheckSubscribeRequest(const hapsim::v1::SubscribeRequest& request) {
+  const double rate = request.max_rate_hz();
+  // A positive rate below 0.01 Hz (one frame per 100 s) would overflow the
+  // frame interval in nanoseconds; nobody watches a session that slowly.
+  if (!std::isfinite(rate) || rate < 0.0 || (rate > 0.0 && rate < 0.01)) {
+    return {grpc::StatusCode::INVALID_ARGUMENT, "max_rate_hz must be 0 (the session's frame rate) or >= 0.01"};
+  }
+  if (request.ack_window() > kMaxAckWindow) {
+    return {grpc::StatusCode::INVALID_ARGUMENT, "ack_window must be at most " + std::to_string(kMaxAckWindow)};
+  }
+  return grpc::Status::OK;
+}
 
 grpc::ServerBidiReactor<ViewerMessage, Frame>* ViewerServiceImpl::Subscribe(grpc::CallbackServerContext* context) {
   std::optional<Principal> caller;

@@ -1,4 +1,4 @@
-// Draws a SceneView with OpenGL 3.3: the mesh lit and flat-shaded, one
+// Draws a SceneView with OpenGL 3.3: the mesh lit per vertex, one
 // colour per part (viewer::PartColour), tissue layers optionally
 // see-through so the needle's path inside shows; the tool from the frame's
 // pose; the force on the tool as an arrow; scene events as markers. Owns its
@@ -47,12 +47,15 @@ class SceneRenderer {
  private:
   struct Solid;  // a small static mesh (cylinder, cone, octahedron)
   void DrawSolid(const Solid& solid, const Eigen::Matrix4f& model, const float rgb[3], float alpha);
+  static void Overwrite(unsigned target, unsigned buffer, const void* data, std::size_t bytes,
+                        std::size_t* stored_bytes);
 
   unsigned program_ = 0;
-  int u_view_projection_ = -1, u_model_ = -1, u_colour_ = -1, u_alpha_ = -1, u_eye_ = -1;
-  unsigned mesh_vao_ = 0, mesh_positions_ = 0, mesh_indices_ = 0;
+  int u_view_projection_ = -1, u_model_ = -1, u_normal_matrix_ = -1, u_colour_ = -1, u_alpha_ = -1, u_eye_ = -1;
+  unsigned mesh_vao_ = 0, mesh_positions_ = 0, mesh_normals_ = 0, mesh_indices_ = 0;
   std::uint64_t uploaded_version_ = ~0ull, uploaded_topology_ = ~0ull;
-  std::size_t positions_bytes_ = 0;
+  std::size_t positions_bytes_ = 0, normals_bytes_ = 0;
+  std::vector<float> normals_;  // 3 per vertex slot, recomputed as the mesh moves
   struct PartRange {
     std::uint16_t part = 0;
     std::size_t first = 0, count = 0;  // in indices

@@ -2,12 +2,21 @@
 // callback API with one small reactor per stream and at most one write in
 // flight. The first message names the session; the rest are acks.
 #pragma once
+#include <cstdint>
+
 #include "hapsim/service/access_policy.h"
 #include "hapsim/service/session_registry.h"
 #include "hapsim/service/viewer_hub.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
 
 namespace hapsim::service {
+
+// Most frames a viewer may leave unacknowledged (SubscribeRequest.ack_window).
+inline constexpr std::uint32_t kMaxAckWindow = 64;
+
+// The SubscribeRequest's own fields, before any session is looked up: OK, or
+// INVALID_ARGUMENT naming the field (max_rate_hz, ack_window).
+grpc::Status CheckSubscribeRequest(const hapsim::v1::SubscribeRequest& request);
 
 class ViewerServiceImpl final : public hapsim::v1::ViewerService::CallbackService {
  public:
