@@ -24,8 +24,10 @@
 #ifdef HAPSIM_WITH_VIEWER_GUI
 #include "hapsim/gui/viewer_app.h"
 constexpr bool kWithGui = true;
+constexpr std::size_t kDefaultMaxTriangles = hapsim::gui::RenderOptions{}.max_triangles;
 #else
 constexpr bool kWithGui = false;
+constexpr std::size_t kDefaultMaxTriangles = 0;
 #endif
 
 namespace {
@@ -69,6 +71,7 @@ int main(int argc, char** argv) {
   hapsim::viewer::ConnectionFlags connection_flags;
   hapsim::viewer::ViewerOptions options;
   int frames = 0, drop_seq = -1, ack_window = 2;
+  int max_triangles = static_cast<int>(kDefaultMaxTriangles);
   bool headless = !kWithGui;
   hapsim::common::Flags flags(
       "hapsim-viewer",
@@ -98,6 +101,8 @@ int main(int argc, char** argv) {
   flags.Add("show-force", &show_force, "draw the force on the tool as an arrow (10 mm per N)");
   flags.Add("show-events", &show_events, "mark punctures and cuts where they happened");
   flags.Add("see-through", &see_through, "draw the skin and fat layers translucent");
+  flags.Add("max-triangles", &max_triangles,
+            "draw a mesh of more triangles simplified to this many (software rendering pays per triangle; 0: all)");
   flags.Add("vsync", &vsync, "sync the window to the display (--vsync=false: draw as fast as possible)");
   flags.Add("replay", &replay_path, "draw a recording (--record) instead of a server's stream");
   flags.Add("record", &record_path, "record the frame stream here (replay with --replay)");
@@ -155,6 +160,7 @@ int main(int argc, char** argv) {
   using hapsim::common::kMaxFlagSeconds;
   const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
       {frames >= 0, "--frames", ">= 0"},
+      {max_triangles >= 0, "--max-triangles", ">= 0"},
       {options.max_seconds >= 0.0 && options.max_seconds <= kMaxFlagSeconds, "--seconds",
        hapsim::common::kMaxFlagSecondsRange},
       {options.max_rate_hz == 0.0 || (options.max_rate_hz >= 0.01 && options.max_rate_hz <= 1000.0), "--max-rate-hz",
@@ -204,6 +210,7 @@ int main(int argc, char** argv) {
     gui_options.render.show_force = show_force;
     gui_options.render.show_events = show_events;
     gui_options.render.see_through_layers = see_through;
+    gui_options.render.max_triangles = static_cast<std::size_t>(max_triangles);
     if (!camera_text.empty()) {
       hapsim::gui::CameraPose pose;
       pose.target_m = Eigen::Vector3d(camera[0], camera[1], camera[2]);

@@ -105,6 +105,13 @@ class Viewer final : public service::ViewerLink::Stream {
     if (sent_ > 0) Ack(applied_seq_);
   }
 
+  // HAPSIM_FUZZ_TRACE=1: what one input did (to see that seeds reach sends).
+  void Trace(int index) const {
+    std::fprintf(stderr, "viewer %d: %llu frames sent and applied, %llu acknowledged, %zu triangles held\n", index,
+                 static_cast<unsigned long long>(sent_), static_cast<unsigned long long>(acked_),
+                 cache_.live_triangle_count());
+  }
+
   std::shared_ptr<service::ViewerLink> link;
 
  private:
@@ -245,7 +252,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       default: break;
     }
   }
-  for (auto& v : viewers)
-    if (v) v->link->Detach();
+  static const bool trace = std::getenv("HAPSIM_FUZZ_TRACE") != nullptr;
+  for (int k = 0; k < 2; ++k) {
+    if (!viewers[k]) continue;
+    if (trace) viewers[k]->Trace(k);
+    viewers[k]->link->Detach();
+  }
   return 0;
 }

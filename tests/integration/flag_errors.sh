@@ -30,6 +30,7 @@ expect 2 "--max-rate-hz must be within 0 or \[0.01, 1000\]" "$bin/hapsim-viewer"
 if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --headless --png x.png --size 10x10
   expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --size 1280
+  expect 2 "--max-triangles" "$bin/hapsim-viewer" --session s --max-triangles -5
   expect 2 "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH" "$bin/hapsim-viewer" --session s --camera 0,0,0,-1,0,0
   expect 2 "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH" "$bin/hapsim-viewer" --session s --camera 0,0,nan,1,0,0
   expect 2 "--benchmark-seconds must be within \[0, 3600\]" "$bin/hapsim-viewer" --session s --benchmark-seconds 1e9

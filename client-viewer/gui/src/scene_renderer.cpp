@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "hapsim/gui/display_simplifier.h"
 #include "hapsim/gui/gl.h"
 #include "hapsim/gui/vertex_normals.h"
 #include "hapsim/viewer/mesh_export.h"
@@ -235,21 +236,26 @@ void SceneRenderer::Upload(const SceneView& scene) {
     Overwrite(GL_ARRAY_BUFFER, mesh_normals_, normals_.data(), normals_.size() * sizeof(float), &normals_bytes_);
   }
   if (cut) {
-    // Sort the triangles by part so each part is one draw call.
+    // Above the budget, a coarser list over the same vertices (see
+    // display_simplifier.h); then sorted by part so each part is one draw call.
     ranges_.clear();
     std::vector<std::uint32_t> sorted;
+    mesh_triangles_ = drawn_triangles_ = 0;
     if (scene.triangles) {
       const TriangleList& list = *scene.triangles;
+      const CoarseTriangles drawn = SimplifyToBudget(scene.positions_m, list.vertices, list.parts, triangle_budget_);
+      mesh_triangles_ = list.parts.size();
+      drawn_triangles_ = drawn.parts.size();
       const std::size_t parts = list.part_names.size();
       std::vector<std::size_t> count(parts + 1, 0);
-      for (const auto p : list.parts) ++count[std::min<std::size_t>(p, parts)];
+      for (const auto p : drawn.parts) ++count[std::min<std::size_t>(p, parts)];
       std::vector<std::size_t> start(parts + 2, 0);
       for (std::size_t p = 0; p <= parts; ++p) start[p + 1] = start[p] + count[p];
       sorted.resize(3 * start[parts + 1]);
       std::vector<std::size_t> next(start.begin(), start.end() - 1);
-      for (std::size_t t = 0; t < list.parts.size(); ++t) {
-        const std::size_t at = next[std::min<std::size_t>(list.parts[t], parts)]++;
-        for (int k = 0; k < 3; ++k) sorted[3 * at + static_cast<std::size_t>(k)] = list.vertices[3 * t + static_cast<std::size_t>(k)];
+      for (std::size_t t = 0; t < drawn.parts.size(); ++t) {
+        const std::size_t at = next[std::min<std::size_t>(drawn.parts[t], parts)]++;
+        for (int k = 0; k < 3; ++k) sorted[3 * at + static_cast<std::size_t>(k)] = drawn.vertices[3 * t + static_cast<std::size_t>(k)];
       }
       for (std::size_t p = 0; p < parts; ++p)
         if (count[p] > 0) ranges_.push_back({static_cast<std::uint16_t>(p), 3 * start[p], 3 * count[p]});
@@ -260,6 +266,12 @@ void SceneRenderer::Upload(const SceneView& scene) {
     uploaded_topology_ = scene.topology_stamp;
   }
   glBindVertexArray(0);
+}
+
+void SceneRenderer::SetTriangleBudget(std::size_t max_triangles) {
+  if (max_triangles == triangle_budget_) return;
+  triangle_budget_ = max_triangles;
+  uploaded_topology_ = ~0ull;  // rebuild the drawn list at the next Upload
 }
 
 double SceneRenderer::ToolLength_m(const SceneView& scene) {

@@ -223,7 +223,10 @@ int RunViewerGui(const GuiOptions& options) {
       glClearColor(0.06f, 0.06f, 0.06f, 1.0f);
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     } else {
+      renderer->SetTriangleBudget(view.render.max_triangles);
       renderer->Upload(scene);
+      view.mesh_triangles = renderer->mesh_triangles();
+      view.drawn_triangles = renderer->drawn_triangles();
       renderer->Draw(scene, camera, panel_w, 0, std::max(width - panel_w, 1), height, view.render);
     }
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

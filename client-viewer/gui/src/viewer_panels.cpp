@@ -103,6 +103,14 @@ void DrawSessionPanel(const SceneView& scene, const std::string& session_id, con
   ImGui::Checkbox("See-through layers", &view->render.see_through_layers);
   ImGui::SameLine();
   ImGui::Checkbox("Force", &view->render.show_force);
+  // Fine meshes are drawn simplified (software rendering pays per triangle).
+  bool simplify = view->render.max_triangles > 0;
+  if (ImGui::Checkbox("Simplify fine meshes", &simplify))
+    view->render.max_triangles = simplify ? RenderOptions{}.max_triangles : 0;
+  if (view->drawn_triangles < view->mesh_triangles) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%zu of %zu triangles", view->drawn_triangles, view->mesh_triangles);
+  }
   if (controls && !session_id.empty()) {
     using Control = viewer::SessionClient::Control;
     const bool busy = controls->busy();

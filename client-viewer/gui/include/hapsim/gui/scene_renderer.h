@@ -20,6 +20,9 @@ struct RenderOptions {
   bool show_tool = true;
   bool show_force = true;
   bool show_events = true;
+  // A mesh of more triangles is drawn simplified to at most this many
+  // (display_simplifier.h: software rendering pays per triangle); 0: all.
+  std::size_t max_triangles = 50000;
   double force_arrow_m_per_N = 0.01;  // arrow length per newton (10 mm/N), capped at kMaxArrow_m
   float background[3] = {0.13f, 0.15f, 0.18f};
 };
@@ -41,6 +44,12 @@ class SceneRenderer {
   // bound framebuffer, clearing it first.
   void Draw(const SceneView& scene, const OrbitCamera& camera, int x_px, int y_px, int width_px, int height_px,
             const RenderOptions& options);
+  // Meshes of more triangles are drawn simplified to at most this many
+  // (display_simplifier.h); 0 draws every triangle. Takes effect at the
+  // next Upload.
+  void SetTriangleBudget(std::size_t max_triangles);
+  std::size_t mesh_triangles() const { return mesh_triangles_; }    // live triangles of the scene
+  std::size_t drawn_triangles() const { return drawn_triangles_; }  // what is drawn of them
   // Tool length drawn for a scene of this size [m].
   static double ToolLength_m(const SceneView& scene);
 
@@ -55,6 +64,7 @@ class SceneRenderer {
   unsigned mesh_vao_ = 0, mesh_positions_ = 0, mesh_normals_ = 0, mesh_indices_ = 0;
   std::uint64_t uploaded_version_ = ~0ull, uploaded_topology_ = ~0ull;
   std::size_t positions_bytes_ = 0, normals_bytes_ = 0;
+  std::size_t triangle_budget_ = 0, mesh_triangles_ = 0, drawn_triangles_ = 0;
   std::vector<float> normals_;  // 3 per vertex slot, recomputed as the mesh moves
   struct PartRange {
     std::uint16_t part = 0;

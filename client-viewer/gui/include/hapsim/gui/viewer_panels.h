@@ -33,6 +33,7 @@ struct ViewState {
   RenderOptions render;
   bool follow_tool = false;
   bool reset_view = false;  // set by the panel's button (or R): the app refits the camera
+  std::size_t mesh_triangles = 0, drawn_triangles = 0;  // from the renderer, for the panel
 };
 
 struct StreamRate {  // frames per second of the stream, over ~1 s
