@@ -39,9 +39,21 @@ bool ReadFrameLog(const std::string& path, std::vector<hapsim::v1::Frame>* frame
     *error = "cannot read " + path;
     return false;
   }
+  return ReadFrameLog(in, path, frames, error);
+}
+
+bool ReadFrameLog(std::istream& in, const std::string& name, std::vector<hapsim::v1::Frame>* frames,
+                  std::string* error) {
+  // What is left to read bounds any claimed length: a damaged header cannot
+  // make the reader allocate 64 MiB for a frame that is not there.
+  const std::istream::pos_type start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const std::istream::pos_type end = in.tellg();
+  in.seekg(start);
+  const bool sized = start != std::istream::pos_type(-1) && end != std::istream::pos_type(-1);
   char magic[sizeof kMagic] = {};
   if (!in.read(magic, sizeof magic) || !std::equal(magic, magic + sizeof magic, kMagic)) {
-    *error = path + " is not a hapsim frame recording (no HSFRAME1 header)";
+    *error = name + " is not a hapsim frame recording (no HSFRAME1 header)";
     return false;
   }
   frames->clear();
@@ -50,22 +62,26 @@ bool ReadFrameLog(const std::string& path, std::vector<hapsim::v1::Frame>* frame
     unsigned char length[4];
     if (!in.read(reinterpret_cast<char*>(length), 4)) {
       if (in.gcount() == 0) return true;
-      *error = path + ": truncated after frame " + std::to_string(frames->size());
+      *error = name + ": truncated after frame " + std::to_string(frames->size());
       return false;
     }
     const std::uint32_t n = length[0] | (length[1] << 8) | (length[2] << 16) | (static_cast<std::uint32_t>(length[3]) << 24);
     if (n > kMaxFrameBytes) {
-      *error = path + ": frame " + std::to_string(frames->size()) + " claims " + std::to_string(n) + " bytes (max 64 MiB)";
+      *error = name + ": frame " + std::to_string(frames->size()) + " claims " + std::to_string(n) + " bytes (max 64 MiB)";
+      return false;
+    }
+    if (sized && static_cast<std::streamoff>(n) > static_cast<std::streamoff>(end - in.tellg())) {
+      *error = name + ": frame " + std::to_string(frames->size()) + " is truncated";
       return false;
     }
     buffer.resize(n);
     if (!in.read(buffer.data(), n)) {
-      *error = path + ": frame " + std::to_string(frames->size()) + " is truncated";
+      *error = name + ": frame " + std::to_string(frames->size()) + " is truncated";
       return false;
     }
     hapsim::v1::Frame frame;
     if (!frame.ParseFromString(buffer)) {
-      *error = path + ": frame " + std::to_string(frames->size()) + " does not parse";
+      *error = name + ": frame " + std::to_string(frames->size()) + " does not parse";
       return false;
     }
     frames->push_back(std::move(frame));

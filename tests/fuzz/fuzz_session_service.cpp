@@ -1,6 +1,8 @@
 // Any bytes as any SessionService request, through the real handler: the
-// first byte picks the call, the rest is parsed as its request message (an
-// unparsable one is sent empty). Invariants: every call answers with a
+// first byte picks the call (the 14 unary ones and the WatchClass stream),
+// the rest is parsed as its request message (an unparsable one is sent
+// empty). WatchClass writes to a stream whose instructor is gone after the
+// first status (so the handler returns without waiting a period). Invariants: every call answers with a
 // status and throws nothing; afterwards the server is healthy (ListSessions
 // answers OK with at most max_sessions sessions) — a client's mistake never
 // takes it down. Sessions are closed after each input, so inputs do not
@@ -52,6 +54,28 @@ Server& TheServer() {
   return *server;
 }
 
+// A WatchClass stream whose reader is gone after the first status.
+class GoneAfterOneStatus final : public grpc::ServerWriterInterface<v1::ClassStatus> {
+ public:
+  void SendInitialMetadata() override {}
+  bool Write(const v1::ClassStatus&, grpc::WriteOptions) override {
+    ++writes;
+    return false;
+  }
+  int writes = 0;
+};
+
+void WatchClassOnce(const std::uint8_t* data, std::size_t size) {
+  v1::WatchClassRequest request;
+  if (!request.ParseFromArray(data, static_cast<int>(size))) request.Clear();
+  grpc::ServerContext context;
+  GoneAfterOneStatus writer;
+  const grpc::Status status = TheServer().api.WatchClassOn(&context, &request, &writer);
+  // Accepted: the instructor got a status first. Refused: nothing was written
+  // and the reason is given.
+  if (status.ok() ? writer.writes != 1 : (writer.writes != 0 || status.error_message().empty())) std::abort();
+}
+
 template <class Request, class Response, class Call>
 grpc::Status Invoke(Call call, const std::uint8_t* data, std::size_t size) {
   Request request;
@@ -89,6 +113,9 @@ void WriteSeeds(const std::string& dir) {
   (*push.mutable_params())["grid_nodes"] = 5;
   write(12, push);
   write(13, v1::TrialQuery());
+  v1::WatchClassRequest watch;
+  watch.set_rate_hz(20.0);
+  write(14, watch);
   write(0, v1::ListScenesRequest());
 }
 
@@ -105,7 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* body = data + 1;
   const std::size_t n = size - 1;
   try {
-    switch (data[0] % 14) {
+    switch (data[0] % 15) {
       case 0: Invoke<v1::ListScenesRequest, v1::ListScenesResponse>(&S::ListScenes, body, n); break;
       case 1: Invoke<v1::CreateSessionRequest, v1::SessionInfo>(&S::CreateSession, body, n); break;
       case 2: Invoke<v1::ListSessionsRequest, v1::ListSessionsResponse>(&S::ListSessions, body, n); break;
@@ -119,7 +146,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 10: Invoke<v1::ScoreQuery, v1::ScoreReport>(&S::GetScores, body, n); break;
       case 11: Invoke<v1::SessionRef, v1::JoinSessionResponse>(&S::JoinSession, body, n); break;
       case 12: Invoke<v1::PushScenarioRequest, v1::PushScenarioResponse>(&S::PushScenario, body, n); break;
-      default: Invoke<v1::TrialQuery, v1::TrialReport>(&S::GetTrials, body, n); break;
+      case 13: Invoke<v1::TrialQuery, v1::TrialReport>(&S::GetTrials, body, n); break;
+      default: WatchClassOnce(body, n); break;
     }
   } catch (...) {
     std::abort();  // a handler let an exception out: the gRPC thread would die

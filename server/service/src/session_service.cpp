@@ -304,6 +304,11 @@ const std::vector<std::string>* SessionServiceImpl::ClassSessions(const std::str
 
 Status SessionServiceImpl::WatchClass(grpc::ServerContext* context, const hapsim::v1::WatchClassRequest* req,
                                       grpc::ServerWriter<hapsim::v1::ClassStatus>* writer) {
+  return WatchClassOn(context, req, writer);
+}
+
+Status SessionServiceImpl::WatchClassOn(grpc::ServerContext* context, const hapsim::v1::WatchClassRequest* req,
+                                        grpc::ServerWriterInterface<hapsim::v1::ClassStatus>* writer) {
   std::vector<std::string> storage;
   const std::vector<std::string>* ids = nullptr;
   double rate_hz = req->rate_hz();

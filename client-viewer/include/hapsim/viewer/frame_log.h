@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <fstream>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -27,5 +28,8 @@ class FrameLogWriter {
 // Reads every frame of a recording. False with *error naming the file and
 // the frame when it is not a recording, truncated or holds a bad frame.
 bool ReadFrameLog(const std::string& path, std::vector<hapsim::v1::Frame>* frames, std::string* error);
+// The same from a stream; `name` names it in errors.
+bool ReadFrameLog(std::istream& in, const std::string& name, std::vector<hapsim::v1::Frame>* frames,
+                  std::string* error);
 
 }  // namespace hapsim::viewer

@@ -49,6 +49,10 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
                            hapsim::v1::JoinSessionResponse*) override;
   grpc::Status WatchClass(grpc::ServerContext*, const hapsim::v1::WatchClassRequest*,
                           grpc::ServerWriter<hapsim::v1::ClassStatus>*) override;
+  // WatchClass over any writer: the gRPC stream's, or a test's or fuzzer's
+  // (grpc::ServerWriter cannot be made outside a call).
+  grpc::Status WatchClassOn(grpc::ServerContext* context, const hapsim::v1::WatchClassRequest* req,
+                            grpc::ServerWriterInterface<hapsim::v1::ClassStatus>* writer);
   grpc::Status PushScenario(grpc::ServerContext*, const hapsim::v1::PushScenarioRequest*,
                             hapsim::v1::PushScenarioResponse*) override;
   grpc::Status GetTrials(grpc::ServerContext*, const hapsim::v1::TrialQuery*, hapsim::v1::TrialReport*) override;
