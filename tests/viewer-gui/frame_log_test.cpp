@@ -1,6 +1,7 @@
 // Recordings: written frames read back equal; damage is named, not crashed on.
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <google/protobuf/util/message_differencer.h>
@@ -52,6 +53,11 @@ TEST(FrameLog, DamagedRecordingsAreRefusedWithTheReason) {
   std::ofstream(path, std::ios::binary | std::ios::trunc) << std::string("HSFRAME1\xff\xff\xff\xff", 12);
   EXPECT_FALSE(ReadFrameLog(path, &frames, &error));
   EXPECT_NE(error.find("max 64 MiB"), std::string::npos) << error;
+  // A length within 64 MiB but past the end of the file: truncated (the
+  // reader compares the claim with what is left before allocating for it).
+  std::istringstream short_stream(std::string("HSFRAME1\xff\xff\xff\x03", 12) + "ten bytes.");
+  EXPECT_FALSE(ReadFrameLog(short_stream, "stream", &frames, &error));
+  EXPECT_EQ(error, "stream: frame 0 is truncated");
   EXPECT_FALSE(ReadFrameLog(TempPath("missing.log"), &frames, &error));
   EXPECT_NE(error.find("cannot read"), std::string::npos) << error;
 }
