@@ -2,6 +2,12 @@
 // for the echoed seq, and a stale model drives the watchdog's event counters.
 #include "hapsim/bridge/servo_channel.h"
 
+#include <cmath>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "backends/synthetic_device.h"
@@ -132,6 +138,52 @@ TEST_F(ServoChannelTest, AFreshContactModelPushesTheToolOutOfTheTissue) {
   EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);  // 500 N/m * 2 mm
   EXPECT_NEAR(tick.force_W_N.z(), 0.05, 1e-9);     // first tick: rise limit 50 N/s * 1 ms
   EXPECT_EQ(device_.last_force_W_N(), tick.force_W_N);
+}
+
+// Row 49 of docs/reliability.md: a state number this bridge does not know
+// is read as free — the feed-forward force only, no spring into the tissue.
+TEST_F(ServoChannelTest, AnUnknownContactStateIsReadAsFree) {
+  ReceivedModel model = ContactModel(0, common::SteadyNowNs());
+  model.msg.state = 7;
+  model.msg.feedforward_n[0] = 0.02;
+  EXPECT_EQ(ToCoreModel(model.msg).state, core::ContactState::kFree);
+  channel_.Sense(0.0);
+  inbox_.Publish(model);
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_EQ(tick.requested_W_N, Eigen::Vector3d(0.02, 0, 0));  // not the 1 N the spring would give
+}
+
+// Row 50: a NaN in any numeric field of a model never reaches the motors as
+// NaN, and never exceeds the clamp; a NaN force is zeroed and counted.
+TEST_F(ServoChannelTest, ANanInAnyModelFieldNeverReachesTheDevice) {
+  const std::vector<std::pair<const char*, std::function<void(hapsim_dds_LocalForceModel&)>>> poisons = {
+      {"anchor", [](auto& m) { m.anchor_m[2] = std::nan(""); }},
+      {"normal", [](auto& m) { m.normal[2] = std::nan(""); }},
+      {"stiffness", [](auto& m) { m.stiffness_n_per_m = std::nan(""); }},
+      {"damping", [](auto& m) { m.damping_ns_per_m = std::nan(""); }},
+      {"feedforward", [](auto& m) { m.feedforward_n[1] = std::nan(""); }},
+  };
+  for (const auto& [name, poison] : poisons) {
+    SyntheticDevice device{PressedTwoMillimetres()};
+    ServoChannel channel{&device, ChannelConfig{7, "room-1", 0.001, {}, 1024}};
+    common::LatestValue<ReceivedModel> inbox;
+    std::uint64_t non_finite_requests = 0;
+    for (int tick = 0; tick < 100; ++tick) {  // 100 ms: past the rise limit's ramp
+      channel.Sense(tick * 0.001);
+      ReceivedModel model = ContactModel(0, common::SteadyNowNs());
+      poison(model.msg);
+      inbox.Publish(model);
+      if (!channel.Actuate(inbox).requested_W_N.allFinite()) ++non_finite_requests;
+      const Eigen::Vector3d force = device.last_force_W_N();
+      ASSERT_TRUE(force.allFinite()) << name << " tick " << tick;
+      ASSERT_LE(force.norm(), SafetyConfig{}.max_force_N + 1e-12) << name << " tick " << tick;
+    }
+    EXPECT_EQ(channel.safety_counters().non_finite, non_finite_requests) << name;
+    // The feed-forward is added as it is: this poison must reach the safety stage.
+    if (std::string(name) == "feedforward") {
+      EXPECT_EQ(non_finite_requests, 100u);
+    }
+  }
 }
 
 }  // namespace

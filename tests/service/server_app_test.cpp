@@ -7,6 +7,9 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 #include <thread>
 
 #include <unistd.h>
@@ -100,6 +103,68 @@ TEST_F(ServerAppTest, UnknownSessionIsNotFoundForEveryCall) {
   ref.set_session_id("nope");
   hapsim::v1::CloseSessionResponse closed;
   EXPECT_EQ(sessions_->CloseSession(&ctx2, ref, &closed).error_code(), grpc::StatusCode::NOT_FOUND);
+}
+
+// Rows 15 and 22 of docs/reliability.md's bad-input matrix: the session
+// controls, the snapshot and a session's scores answer NOT_FOUND naming the id.
+TEST_F(ServerAppTest, ControlsSnapshotAndScoresOfAnUnknownSessionAreNotFound) {
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("ghost");
+  using Call = std::function<grpc::Status(grpc::ClientContext*)>;
+  hapsim::v1::SessionInfo info;
+  hapsim::v1::MeshSnapshot snapshot;
+  const std::vector<std::pair<std::string, Call>> calls = {
+      {"PauseSession", [&](grpc::ClientContext* c) { return sessions_->PauseSession(c, ref, &info); }},
+      {"ResumeSession", [&](grpc::ClientContext* c) { return sessions_->ResumeSession(c, ref, &info); }},
+      {"ResetSession", [&](grpc::ClientContext* c) { return sessions_->ResetSession(c, ref, &info); }},
+      {"GetSnapshot", [&](grpc::ClientContext* c) { return sessions_->GetSnapshot(c, ref, &snapshot); }},
+  };
+  for (const auto& [name, call] : calls) {
+    grpc::ClientContext ctx;
+    const auto status = call(&ctx);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND) << name;
+    EXPECT_NE(status.error_message().find("'ghost'"), std::string::npos) << name << ": " << status.error_message();
+  }
+  ASSERT_TRUE(Create("unscored").ok());
+  grpc::ClientContext ctx;
+  hapsim::v1::ScoreQuery query;
+  query.set_session_id("unscored");  // a live session nobody has scored
+  hapsim::v1::ScoreReport report;
+  const auto status = sessions_->GetScores(&ctx, query, &report);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_NE(status.error_message().find("no scores for session 'unscored'"), std::string::npos)
+      << status.error_message();
+}
+
+// Rows 6, 9 and 11: a creation request past a length or count limit is
+// refused with the limit in the message, one step past it, and leaves no
+// session behind; one at the limit is accepted.
+TEST_F(ServerAppTest, CreateRequestsPastTheirLimitsAreRefusedNamingTheLimit) {
+  auto create = [&](const std::string& id, const std::string& owner, int params) {
+    grpc::ClientContext ctx;
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id(id);
+    req.set_owner(owner);
+    for (int i = 0; i < params; ++i) (*req.mutable_params())[std::string("p").append(std::to_string(i))] = 1.0;
+    hapsim::v1::SessionInfo info;
+    return sessions_->CreateSession(&ctx, req, &info);
+  };
+  const auto many_params = create("many", "", 65);
+  EXPECT_EQ(many_params.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(many_params.error_message().find("more than 64 scene parameters"), std::string::npos)
+      << many_params.error_message();
+  const auto long_id = create(std::string(64, 'a'), "", 0);
+  EXPECT_EQ(long_id.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(long_id.error_message().find("1-63 characters"), std::string::npos) << long_id.error_message();
+  const auto long_owner = create("owned", std::string(257, 'o'), 0);
+  EXPECT_EQ(long_owner.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(long_owner.error_message().find("longer than 256 characters"), std::string::npos)
+      << long_owner.error_message();
+  grpc::ClientContext ctx;
+  hapsim::v1::ListSessionsResponse listed;
+  ASSERT_TRUE(sessions_->ListSessions(&ctx, hapsim::v1::ListSessionsRequest(), &listed).ok());
+  EXPECT_EQ(listed.sessions_size(), 0);
+  EXPECT_TRUE(create(std::string(63, 'a'), std::string(256, 'o'), 0).ok());
 }
 
 TEST_F(ServerAppTest, BadCreateRequestsGetClearErrors) {
