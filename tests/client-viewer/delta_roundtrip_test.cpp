@@ -5,7 +5,12 @@
 // and additions, with snapshots coalesced away (slow viewers) and frames
 // lost (the viewer resubscribes), through the real snapshot copy
 // (CopyMesh), the frame pump's TopologyHistory, the encoder and the cache.
+#include <cmath>
+#include <functional>
 #include <random>
+#include <string>
+#include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -314,6 +319,70 @@ TEST_F(MalformedFrames, KeyframeTriangleOnAnUnknownVertex) {
   hapsim::v1::Frame bad = key;
   bad.mutable_keyframe()->set_triangles(0, 99);
   ExpectRefusedAndUnchanged(bad);
+}
+
+// Row 63 of docs/reliability.md: every way a keyframe can be malformed is
+// refused whole, with the reason, and the cache keeps the mesh it had.
+TEST_F(MalformedFrames, EveryKeyframeFaultIsRefusedWholeSayingWhy) {
+  using Mutation = std::function<void(hapsim::v1::Keyframe&)>;
+  const std::vector<std::tuple<const char*, Mutation, const char*>> faults = {
+      {"zero quantum", [](auto& k) { k.set_quantum_m(0.0); }, "bad quantum"},
+      {"negative quantum", [](auto& k) { k.set_quantum_m(-1e-5); }, "bad quantum"},
+      {"NaN quantum", [](auto& k) { k.set_quantum_m(std::nan("")); }, "bad quantum"},
+      {"infinite quantum", [](auto& k) { k.set_quantum_m(HUGE_VAL); }, "bad quantum"},
+      {"a lone coordinate", [](auto& k) { k.add_positions_q(1); }, "positions not a multiple of 3"},
+      {"a part too many", [](auto& k) { k.add_triangle_parts(0); }, "triangles and triangle parts do not match"},
+      {"vertex capacity below the slots", [](auto& k) { k.set_vertex_capacity(1); }, "slot capacities"},
+      {"vertex capacity above 2^26", [](auto& k) { k.set_vertex_capacity((1u << 26) + 1); }, "slot capacities"},
+      {"triangle capacity below the slots", [](auto& k) { k.set_triangle_capacity(1); }, "slot capacities"},
+      {"a free vertex slot past the end", [](auto& k) { k.add_free_vertices(100000); }, "bad free vertex slot"},
+      {"a free vertex slot twice", [](auto& k) { k.add_free_vertices(15); k.add_free_vertices(15); },
+       "bad free vertex slot"},
+      {"a free triangle slot past the end", [](auto& k) { k.add_free_triangles(100000); }, "bad free triangle slot"},
+      {"a repeated vertex in a triangle", [](auto& k) { k.set_triangles(1, k.triangles(0)); }, "repeated"},
+      {"an unknown part", [](auto& k) { k.set_triangle_parts(0, 99); }, "unknown part"},
+  };
+  for (const auto& [name, mutate, reason] : faults) {
+    hapsim::v1::Frame bad = key;
+    bad.set_seq(7);
+    mutate(*bad.mutable_keyframe());
+    std::string why;
+    EXPECT_EQ(cache.Apply(bad, &why), viewer::ApplyResult::kMalformed) << name;
+    EXPECT_NE(why.find(reason), std::string::npos) << name << ": " << why;
+    EXPECT_EQ((cache.Vertices_m() - before).norm(), 0.0) << name;
+    ExpectSameMesh(cache, m, name);
+    EXPECT_EQ(cache.last_seq(), 0u) << name;
+  }
+}
+
+// Row 63, deltas: a position count that is not 3 per index, an index that
+// does not increase, and a frame with neither keyframe nor delta.
+TEST_F(MalformedFrames, EveryDeltaFaultIsRefusedWholeSayingWhy) {
+  next.clear_topology();
+  next.set_topology_version(m.topology.Version());
+  hapsim::v1::Frame short_dq = next;
+  short_dq.mutable_delta()->add_index_gaps(1);
+  short_dq.mutable_delta()->add_position_dq(4);
+  short_dq.mutable_delta()->add_position_dq(4);
+  hapsim::v1::Frame repeated_index = next;
+  repeated_index.mutable_delta()->add_index_gaps(2);
+  repeated_index.mutable_delta()->add_index_gaps(0);  // vertex 2 again
+  for (int k = 0; k < 6; ++k) repeated_index.mutable_delta()->add_position_dq(3);
+  hapsim::v1::Frame empty;
+  empty.set_seq(1);
+  const std::vector<std::tuple<const char*, hapsim::v1::Frame, const char*>> faults = {
+      {"two values for one index", short_dq, "3 position values per index"},
+      {"an index repeated", repeated_index, "not increasing"},
+      {"neither keyframe nor delta", empty, "neither keyframe nor delta"},
+  };
+  for (const auto& [name, frame, reason] : faults) {
+    std::string why;
+    EXPECT_EQ(cache.Apply(frame, &why), viewer::ApplyResult::kMalformed) << name;
+    EXPECT_NE(why.find(reason), std::string::npos) << name << ": " << why;
+    EXPECT_EQ((cache.Vertices_m() - before).norm(), 0.0) << name;
+    ExpectSameMesh(cache, m, name);
+    EXPECT_EQ(cache.last_seq(), 0u) << name;
+  }
 }
 
 TEST(MeshCache, DeltaBeforeKeyframeNeedsKeyframe) {

@@ -482,6 +482,64 @@ TEST_F(ServerAppTest, AckWindowStopsTheStreamUntilTheViewerAcks) {
   reader->Finish();
 }
 
+// Row 32 of docs/reliability.md: an ack for a frame never sent is ignored,
+// so it cannot open the window. If it did, frames 2 and 3 would be sent
+// during the pause and the next one read would be old.
+TEST_F(ServerAppTest, AnAckBeyondWhatWasSentDoesNotOpenTheWindow) {
+  ASSERT_TRUE(Create("ahead").ok());
+  grpc::ClientContext ctx;
+  auto reader = Subscribe(&ctx, "ahead", /*ack_window=*/2);
+  hapsim::v1::Frame frame;
+  ASSERT_TRUE(reader->Read(&frame));
+  ASSERT_TRUE(reader->Read(&frame));
+  ASSERT_EQ(frame.seq(), 1u);
+  Ack(reader.get(), 1'000'000);
+  Ack(reader.get(), ~std::uint64_t{0});
+  std::this_thread::sleep_for(300ms);
+  const double sim_at_ack = Info("ahead").sim_time_s();
+  Ack(reader.get(), 1);
+  ASSERT_TRUE(reader->Read(&frame));
+  EXPECT_EQ(frame.seq(), 2u);
+  EXPECT_GT(frame.sim_time_s(), sim_at_ack - 0.03);  // built after the real ack
+  ctx.TryCancel();
+  while (reader->Read(&frame)) {
+  }
+  reader->Finish();
+}
+
+// Rows 25 and 29: a stream the client half-closes before subscribing, and a
+// stream whose session is closed under it, each end with a status that says why.
+TEST_F(ServerAppTest, AStreamWithoutARequestOrWhoseSessionClosesEndsSayingWhy) {
+  {
+    grpc::ClientContext ctx;
+    auto stream = viewers_->Subscribe(&ctx);
+    stream->WritesDone();
+    hapsim::v1::Frame frame;
+    EXPECT_FALSE(stream->Read(&frame));
+    const auto status = stream->Finish();
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+    EXPECT_EQ(status.error_message(), "no SubscribeRequest received");
+  }
+  ASSERT_TRUE(Create("doomed").ok());
+  grpc::ClientContext ctx;
+  auto stream = Subscribe(&ctx, "doomed");
+  hapsim::v1::Frame frame;
+  ASSERT_TRUE(stream->Read(&frame));  // streaming
+  {
+    grpc::ClientContext close_ctx;
+    hapsim::v1::SessionRef ref;
+    ref.set_session_id("doomed");
+    hapsim::v1::CloseSessionResponse closed;
+    ASSERT_TRUE(sessions_->CloseSession(&close_ctx, ref, &closed).ok());
+  }
+  int frames_after_close = 0;
+  while (stream->Read(&frame)) ++frames_after_close;  // at most the frames already in flight
+  EXPECT_LE(frames_after_close, 2);
+  const auto status = stream->Finish();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
+  EXPECT_EQ(status.error_message(), "session 'doomed' was closed");
+}
+
 TEST_F(ServerAppTest, SubscribeWithoutRequestOrWithBadWindowIsRejected) {
   ASSERT_TRUE(Create("bad").ok());
   {
