@@ -56,11 +56,11 @@ struct CloseSessionsAtExit {
 
 int main(int argc, char** argv) {
   hapsim::bridge::LoadPlanOptions plan_options;
-  std::string sessions, create_scene, params, json_file, csv_file;
+  std::string sessions, create_scene, params, json_file, csv_file, intervals_csv_file;
   hapsim::viewer::Connection connection;
   hapsim::viewer::ConnectionFlags connection_flags;
   int devices = plan_options.devices, first_device_id = static_cast<int>(plan_options.first_device_id);
-  double seconds = 0.0, rate_hz = 1000.0;
+  double seconds = 0.0, rate_hz = 1000.0, interval_s = 0.0;
   bool keep_sessions = false, server_stats = false;
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
@@ -85,6 +85,9 @@ int main(int argc, char** argv) {
   hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
   flags.Add("json", &json_file, "write the summary as JSON here");
   flags.Add("csv", &csv_file, "write the per-device summary as CSV here (last row: total)");
+  flags.Add("interval-s", &interval_s,
+            "also report round trip and model age per interval of this length [s] (0: off; in --json and --intervals-csv)");
+  flags.Add("intervals-csv", &intervals_csv_file, "with --interval-s: write one CSV row per interval here");
   hapsim::bridge::AddProcessFlags(flags, &process);
   const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-load", "load");
   if (parse_exit >= 0) return parse_exit;
@@ -92,9 +95,15 @@ int main(int argc, char** argv) {
       {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
       {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
       {first_device_id >= 0, "--first-device-id", ">= 0"},
+      {interval_s == 0.0 || (interval_s >= 0.1 && interval_s <= hapsim::common::kMaxFlagSeconds), "--interval-s",
+       "0 (off) or [0.1, 1e7]"},
   });
   if (!out_of_range.empty()) {
     std::fprintf(stderr, "hapsim-load: %s\n", out_of_range.c_str());
+    return 2;
+  }
+  if (!intervals_csv_file.empty() && interval_s == 0.0) {
+    std::fprintf(stderr, "hapsim-load: --intervals-csv needs --interval-s (the length of an interval)\n");
     return 2;
   }
   if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
@@ -122,6 +131,7 @@ int main(int argc, char** argv) {
   }
   run_config.rate_hz = rate_hz;
   run_config.run_seconds = seconds;
+  run_config.interval_s = interval_s;
 
   std::vector<std::string> session_ids;
   for (const auto& d : plan) session_ids.push_back(d.session);
@@ -169,6 +179,11 @@ int main(int argc, char** argv) {
     }
     if (!csv_file.empty() && !hapsim::bridge::WriteTextFile(csv_file, hapsim::bridge::FormatLoadCsv(report))) {
       std::fprintf(stderr, "hapsim-load: cannot write %s\n", csv_file.c_str());
+      rc = 1;
+    }
+    if (!intervals_csv_file.empty() &&
+        !hapsim::bridge::WriteTextFile(intervals_csv_file, hapsim::bridge::FormatLoadIntervalsCsv(report))) {
+      std::fprintf(stderr, "hapsim-load: cannot write %s\n", intervals_csv_file.c_str());
       rc = 1;
     }
     return rc;

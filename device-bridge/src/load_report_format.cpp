@@ -173,8 +173,32 @@ std::string FormatLoadJson(const LoadReport& r) {
     for (const auto& s : r.server) ServerJson(w, s);
     w.EndArray();
   }
+  if (!r.intervals.empty()) {
+    w.BeginArray("intervals");
+    for (const auto& i : r.intervals) {
+      w.BeginObject();
+      w.Field("end_s", i.end_s);
+      PercentilesMs(w, "round_trip_ms", i.round_trip_s);
+      PercentilesMs(w, "model_age_ms", i.model_age_s);
+      w.EndObject();
+    }
+    w.EndArray();
+    w.Field("intervals_dropped", r.intervals_dropped);
+  }
   w.EndObject();
   return w.text();
+}
+
+std::string FormatLoadIntervalsCsv(const LoadReport& r) {
+  std::string out =
+      "end_s,round_trips,round_trip_p50_ms,round_trip_p99_ms,round_trip_max_ms,model_ages,model_age_p50_ms,"
+      "model_age_p99_ms,model_age_max_ms\n";
+  for (const auto& i : r.intervals) {
+    const common::Percentiles &rtt = i.round_trip_s, &age = i.model_age_s;
+    out += Printf("%.3f,%zu,%.4f,%.4f,%.4f,%zu,%.4f,%.4f,%.4f\n", i.end_s, rtt.count, rtt.p50 * kMs, rtt.p99 * kMs,
+                  rtt.max * kMs, age.count, age.p50 * kMs, age.p99 * kMs, age.max * kMs);
+  }
+  return out;
 }
 
 std::string FormatLoadCsv(const LoadReport& r) {

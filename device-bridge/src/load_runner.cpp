@@ -11,6 +11,16 @@ namespace hapsim::bridge {
 namespace {
 constexpr std::size_t kPooledSampleBudget = std::size_t{1} << 22;  // per statistic: 32 MiB of doubles
 constexpr std::size_t kMinWindow = 1024;
+// Interval percentiles: 1 us .. 100 s in bins 2 % wide (~930 bins each).
+constexpr double kIntervalLowestS = 1e-6, kIntervalHighestS = 100.0, kIntervalBinRatio = 1.02;
+// Intervals kept when the run has no end: a day of 10 s intervals.
+constexpr std::size_t kUnboundedIntervals = 8640;
+
+std::size_t IntervalsToReserve(const LoadRunConfig& c) {
+  if (c.interval_s <= 0.0) return 0;
+  if (c.run_seconds <= 0.0) return kUnboundedIntervals;
+  return static_cast<std::size_t>(std::ceil(c.run_seconds / c.interval_s)) + 2;
+}
 }  // namespace
 
 std::size_t StatsWindowPerDevice(double run_seconds, double rate_hz, std::size_t devices) {
@@ -29,7 +39,11 @@ LoadRunner::LoadRunner(const std::vector<LoadDevicePlan>& plan, const LoadRunCon
       poses_sent_(plan.size(), 0),
       write_failures_(plan.size(), 0),
       pooled_round_trip_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()),
-      pooled_model_age_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()) {
+      pooled_model_age_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()),
+      interval_round_trip_s_(kIntervalLowestS, kIntervalHighestS, kIntervalBinRatio),
+      interval_model_age_s_(kIntervalLowestS, kIntervalHighestS, kIntervalBinRatio),
+      interval_end_s_(config.interval_s) {
+  intervals_.reserve(IntervalsToReserve(config_));
   ChannelConfig c;
   c.period_s = 1.0 / config_.rate_hz;
   c.safety = config_.safety;
@@ -53,8 +67,24 @@ void LoadRunner::StepDevice(std::size_t i, double t_s) {
     ++write_failures_[i];
   }
   const ChannelTick& tick = channel.Actuate(router_->inbox(i));
-  if (tick.round_trip_s >= 0.0) pooled_round_trip_s_.Record(tick.round_trip_s);
-  if (tick.model_age_s >= 0.0) pooled_model_age_s_.Record(tick.model_age_s);
+  if (tick.round_trip_s >= 0.0) {
+    pooled_round_trip_s_.Record(tick.round_trip_s);
+    interval_round_trip_s_.Record(tick.round_trip_s);
+  }
+  if (tick.model_age_s >= 0.0) {
+    pooled_model_age_s_.Record(tick.model_age_s);
+    interval_model_age_s_.Record(tick.model_age_s);
+  }
+}
+
+void LoadRunner::CloseInterval(double end_s) {
+  if (intervals_.size() < intervals_.capacity()) {
+    intervals_.push_back({end_s, interval_round_trip_s_.Summary(), interval_model_age_s_.Summary()});
+  } else {
+    ++intervals_dropped_;
+  }
+  interval_round_trip_s_.Clear();
+  interval_model_age_s_.Clear();
 }
 
 LoadReport LoadRunner::Run(const std::atomic<bool>& stop) {
@@ -63,12 +93,20 @@ LoadReport LoadRunner::Run(const std::atomic<bool>& stop) {
   while (!stop.load(std::memory_order_relaxed)) {
     const double t = ticker.Wait();
     if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
+    if (config_.interval_s > 0.0 && t >= interval_end_s_) {
+      CloseInterval(interval_end_s_);
+      interval_end_s_ += config_.interval_s;
+    }
     const std::int64_t start_ns = common::SteadyNowNs();
     for (std::size_t i = 0; i < channels_.size(); ++i) StepDevice(i, t);
     work_s.Record(static_cast<double>(common::SteadyNowNs() - start_ns) * 1e-9);
   }
   for (auto& device : devices_) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
-  LoadReport report = Report(ticker.ElapsedS());
+  const double elapsed_s = ticker.ElapsedS();
+  if (config_.interval_s > 0.0 && interval_round_trip_s_.count() + interval_model_age_s_.count() > 0) {
+    CloseInterval(std::min(elapsed_s, interval_end_s_));  // the last, shorter one
+  }
+  LoadReport report = Report(elapsed_s);
   report.servo.ticks = work_s.Total();
   report.servo.reanchors = ticker.reanchors();
   report.servo.lateness_s = ticker.Lateness();
@@ -106,6 +144,8 @@ LoadReport LoadRunner::Report(double elapsed_s) const {
   r.total.flow.model_age_s = pooled_model_age_s_.Summary();
   r.models_for_unknown_devices = router_->models_for_unknown_devices();
   r.models_for_other_sessions = router_->models_for_other_sessions();
+  r.intervals = intervals_;
+  r.intervals_dropped = intervals_dropped_;
   return r;
 }
 

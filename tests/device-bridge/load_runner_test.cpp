@@ -3,6 +3,7 @@
 // echoes, in order, with a round trip.
 #include "hapsim/bridge/load_runner.h"
 
+#include <algorithm>
 #include <cstring>
 
 #include <gtest/gtest.h>
@@ -26,6 +27,19 @@ std::vector<std::string> SessionsOf(const std::vector<LoadDevicePlan>& plan) {
   return sessions;
 }
 
+// The "server": answers every pose at once with a model echoing it. It runs
+// on the servo thread, which is then the inboxes' only producer.
+PoseWriter EchoingServer(ModelRouter& router) {
+  return [&router](const hapsim_dds_StylusPose& pose) {
+    hapsim_dds_LocalForceModel model{};
+    model.device_id = pose.device_id;
+    std::memcpy(model.session, pose.session, sizeof model.session);
+    model.echo_pose_seq = pose.seq;
+    router.Route(model, common::SteadyNowNs());
+    return true;
+  };
+}
+
 LoadRunConfig ShortRun() {
   LoadRunConfig c;
   c.run_seconds = 0.05;
@@ -35,15 +49,7 @@ LoadRunConfig ShortRun() {
 TEST(LoadRunner, EachDeviceReceivesItsOwnEchoesInOrderWithARoundTrip) {
   const auto plan = ThreeDevices();
   ModelRouter router(plan.front().device_id, SessionsOf(plan));
-  // The echo runs on the servo thread, which is then the inboxes' only producer.
-  LoadRunner runner(plan, ShortRun(), &router, [&router](const hapsim_dds_StylusPose& pose) {
-    hapsim_dds_LocalForceModel model{};
-    model.device_id = pose.device_id;
-    std::memcpy(model.session, pose.session, sizeof model.session);
-    model.echo_pose_seq = pose.seq;
-    router.Route(model, common::SteadyNowNs());
-    return true;
-  });
+  LoadRunner runner(plan, ShortRun(), &router, EchoingServer(router));
   std::atomic<bool> stop{false};
   const LoadReport r = runner.Run(stop);
   ASSERT_EQ(r.devices.size(), 3u);
@@ -59,6 +65,37 @@ TEST(LoadRunner, EachDeviceReceivesItsOwnEchoesInOrderWithARoundTrip) {
   }
   EXPECT_EQ(r.total.flow.round_trip_s.count, 3 * r.servo.ticks);
   EXPECT_EQ(r.models_for_other_sessions + r.models_for_unknown_devices, 0u);
+}
+
+// --interval-s: the run cut into intervals whose pooled samples add up to
+// the run's (the pooled window holds every sample of so short a run), the
+// largest of them the run's largest.
+TEST(LoadRunner, IntervalsPartitionTheRunsRoundTrips) {
+  const auto plan = ThreeDevices();
+  ModelRouter router(plan.front().device_id, SessionsOf(plan));
+  LoadRunConfig config;
+  config.run_seconds = 0.25;
+  config.interval_s = 0.1;
+  LoadRunner runner(plan, config, &router, EchoingServer(router));
+  std::atomic<bool> stop{false};
+  const LoadReport r = runner.Run(stop);
+  ASSERT_EQ(r.intervals.size(), 3u);  // ends 0.1, 0.2 and the last, shorter one
+  EXPECT_DOUBLE_EQ(r.intervals[0].end_s, 0.1);
+  EXPECT_DOUBLE_EQ(r.intervals[1].end_s, 0.2);
+  EXPECT_GT(r.intervals[2].end_s, 0.2);
+  EXPECT_LE(r.intervals[2].end_s, 0.3);
+  std::size_t round_trips = 0;
+  double largest = 0.0;
+  for (const auto& i : r.intervals) {
+    EXPECT_GT(i.round_trip_s.count, 0u);
+    EXPECT_LE(i.round_trip_s.p50, i.round_trip_s.p99);
+    EXPECT_LE(i.round_trip_s.p99, i.round_trip_s.max);
+    round_trips += i.round_trip_s.count;
+    largest = std::max(largest, i.round_trip_s.max);
+  }
+  EXPECT_EQ(round_trips, r.total.flow.round_trip_s.count);
+  EXPECT_EQ(largest, r.total.flow.round_trip_s.max);
+  EXPECT_EQ(r.intervals_dropped, 0u);
 }
 
 TEST(LoadRunner, RefusedPoseWritesAreCountedAndNoModelMeansNoModelState) {

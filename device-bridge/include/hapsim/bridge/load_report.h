@@ -60,6 +60,16 @@ struct ServerSessionStats {
   double max_tick_lateness_s = 0.0;
 };
 
+// Pooled over all devices for one stretch of the run (--interval-s): how
+// the round trip and the model age change over a long run. Percentiles are
+// binned (common::LogHistogram, bins 2 % wide: never below the exact value,
+// at most 2 % above); count, max and mean are exact.
+struct LoadInterval {
+  double end_s = 0.0;  // run time at the interval's end
+  common::Percentiles round_trip_s;
+  common::Percentiles model_age_s;
+};
+
 struct LoadReport {
   double rate_hz = 0.0;
   double elapsed_s = 0.0;
@@ -69,6 +79,8 @@ struct LoadReport {
   std::uint64_t models_for_unknown_devices = 0;  // other device ids on the domain
   std::uint64_t models_for_other_sessions = 0;   // our device ids, another session
   std::vector<ServerSessionStats> server;        // empty: not fetched
+  std::vector<LoadInterval> intervals;           // empty: --interval-s not given
+  std::uint64_t intervals_dropped = 0;           // past the space reserved for them
 };
 
 // Sums (and counts) the devices into a LoadTotals; the pooled percentiles

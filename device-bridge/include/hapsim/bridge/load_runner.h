@@ -17,12 +17,14 @@
 #include "hapsim/bridge/load_report.h"
 #include "hapsim/bridge/model_router.h"
 #include "hapsim/bridge/servo_channel.h"
+#include "hapsim/common/log_histogram.h"
 
 namespace hapsim::bridge {
 
 struct LoadRunConfig {
   double rate_hz = 1000.0;
   double run_seconds = 0.0;  // 0: until stop is set
+  double interval_s = 0.0;   // > 0: also report percentiles per interval of this length
   SafetyConfig safety;
 };
 
@@ -44,6 +46,8 @@ class LoadRunner {
 
  private:
   void StepDevice(std::size_t i, double t_s);
+  // Closes the interval ending at end_s (servo thread; no allocation).
+  void CloseInterval(double end_s);
   LoadReport Report(double elapsed_s) const;
 
   LoadRunConfig config_;
@@ -54,6 +58,10 @@ class LoadRunner {
   std::vector<ServoChannel> channels_;
   std::vector<std::uint64_t> poses_sent_, write_failures_;
   common::SampleWindow pooled_round_trip_s_, pooled_model_age_s_;
+  common::LogHistogram interval_round_trip_s_, interval_model_age_s_;
+  std::vector<LoadInterval> intervals_;  // reserved up front
+  std::uint64_t intervals_dropped_ = 0;
+  double interval_end_s_ = 0.0;
 };
 
 }  // namespace hapsim::bridge
