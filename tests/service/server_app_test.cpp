@@ -363,6 +363,11 @@ TEST_F(ServerAppTest, ScoresAreCheckedAndEachSessionScoredByItsOwnRaters) {
   EXPECT_EQ(submit("ta", "dr-x", std::vector<double>(100000, 5.0), &report).error_code(),
             grpc::StatusCode::INVALID_ARGUMENT);  // 800 kB of scores: refused, not kept
   EXPECT_EQ(submit("ghost", "dr-x", {8, 6, 7, 9, 5, 8, 7}, &report).error_code(), grpc::StatusCode::NOT_FOUND);
+  for (double not_finite : {std::nan(""), HUGE_VAL, -HUGE_VAL}) {  // row 19: refused like an 11
+    const auto status = submit("ta", "dr-x", {8, 6, 7, 9, 5, 8, not_finite}, &report);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << not_finite;
+    EXPECT_NE(status.error_message().find("within [0, 10]"), std::string::npos) << status.error_message();
+  }
   // Two raters of ta: the hand-computed core example
   // (ComprehensiveScore.MatchesHandComputedTwoTraineeExample), mean of
   // f = 6.758 and 6.822.
@@ -538,6 +543,70 @@ TEST_F(ServerAppTest, AStreamWithoutARequestOrWhoseSessionClosesEndsSayingWhy) {
   const auto status = stream->Finish();
   EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
   EXPECT_EQ(status.error_message(), "session 'doomed' was closed");
+}
+
+// Row 29, the server's side: a viewer streaming when the server stops is told
+// so (UNAVAILABLE, retry elsewhere or later), not left with a broken pipe.
+TEST_F(ServerAppTest, AStreamEndsUnavailableWhenTheServerShutsDown) {
+  ASSERT_TRUE(Create("live").ok());
+  grpc::ClientContext ctx;
+  auto stream = Subscribe(&ctx, "live");
+  hapsim::v1::Frame frame;
+  ASSERT_TRUE(stream->Read(&frame));  // streaming
+  std::thread stopper([&] { app_->Shutdown(); });
+  while (stream->Read(&frame)) {
+  }
+  const auto status = stream->Finish();
+  stopper.join();
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE);
+  EXPECT_EQ(status.error_message(), "server shutting down");
+}
+
+// Rows 8, 12 and 16: while a scene builds, its id is held (a second create is
+// ALREADY_EXISTS, a close NOT_FOUND); a client that gives up before the build
+// ends leaves nothing behind: the built session is closed again, so the id
+// and the --max-sessions slot are free once the build is over.
+TEST_F(ServerAppTest, AnIdIsHeldWhileItBuildsAndFreedWhenItsClientGaveUp) {
+  // The acupuncture scene at its largest sizes (docs/scene-limits.md): a
+  // build of 2.4 s in release on the 2-core VM, against a deadline of 1 s.
+  const std::map<std::string, double> slow = {{"patch_grid_nodes", 101}, {"skin_rings", 30}, {"fat_rings", 30},
+                                              {"muscle_rings", 30}, {"shf_lmax", 16}, {"shf_samples", 3000}};
+  grpc::Status given_up;
+  std::thread impatient([&] {
+    grpc::ClientContext ctx;
+    ctx.set_deadline(std::chrono::system_clock::now() + 1s);
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id("slow");
+    req.set_scene("acupuncture");
+    for (const auto& [k, v] : slow) (*req.mutable_params())[k] = v;
+    hapsim::v1::SessionInfo info;
+    given_up = sessions_->CreateSession(&ctx, req, &info);
+  });
+  std::this_thread::sleep_for(300ms);  // the first request has reserved "slow" and is building
+  const auto again = Create("slow");
+  EXPECT_EQ(again.error_code(), grpc::StatusCode::ALREADY_EXISTS) << again.error_message();
+  {
+    grpc::ClientContext ctx;
+    hapsim::v1::SessionRef ref;
+    ref.set_session_id("slow");
+    hapsim::v1::CloseSessionResponse closed;
+    EXPECT_EQ(sessions_->CloseSession(&ctx, ref, &closed).error_code(), grpc::StatusCode::NOT_FOUND);
+  }
+  impatient.join();
+  EXPECT_EQ(given_up.error_code(), grpc::StatusCode::DEADLINE_EXCEEDED);
+  // Once the build ends, the id is free again: a quick tissue_block takes it.
+  grpc::Status retaken;
+  const auto until = std::chrono::steady_clock::now() + 120s;
+  do {
+    std::this_thread::sleep_for(100ms);
+    retaken = Create("slow");
+  } while (retaken.error_code() == grpc::StatusCode::ALREADY_EXISTS && std::chrono::steady_clock::now() < until);
+  ASSERT_TRUE(retaken.ok()) << retaken.error_message();
+  EXPECT_EQ(Info("slow").scene(), "tissue_block");
+  grpc::ClientContext ctx;
+  hapsim::v1::ListSessionsResponse listed;
+  ASSERT_TRUE(sessions_->ListSessions(&ctx, hapsim::v1::ListSessionsRequest(), &listed).ok());
+  EXPECT_EQ(listed.sessions_size(), 1);  // the abandoned acupuncture session is not running
 }
 
 TEST_F(ServerAppTest, SubscribeWithoutRequestOrWithBadWindowIsRejected) {
