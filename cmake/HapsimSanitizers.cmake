@@ -7,6 +7,10 @@ if(HAPSIM_FUZZ)
   endif()
   set(HAPSIM_SANITIZE "address;undefined")
   add_compile_options(-fsanitize=fuzzer-no-link)
+  # Line tables are all a sanitizer report needs (file:line in every frame);
+  # full -g debug info of gRPC/protobuf-heavy code made this tree, built in CI
+  # for the sanitized tests and the fuzzers, the slowest part of CI.
+  add_compile_options(-gline-tables-only)
 endif()
 if(HAPSIM_SANITIZE)
   string(REPLACE ";" "," _san "${HAPSIM_SANITIZE}")
