@@ -8,8 +8,8 @@ if(HAPSIM_FUZZ)
   set(HAPSIM_SANITIZE "address;undefined")
   add_compile_options(-fsanitize=fuzzer-no-link)
   # Line tables are all a sanitizer report needs (file:line in every frame);
-  # full -g debug info of gRPC/protobuf-heavy code made this tree, built in CI
-  # for the sanitized tests and the fuzzers, the slowest part of CI.
+  # full -g only makes the objects and the fuzz binaries bigger. (It is not
+  # what makes this tree slow to build: docs/reliability.md, CI time.)
   add_compile_options(-gline-tables-only)
 endif()
 if(HAPSIM_SANITIZE)
