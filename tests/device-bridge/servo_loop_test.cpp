@@ -25,16 +25,22 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   ServoConfig config;
   config.run_seconds = 0.4;
   config.trace_capacity = 1000;
-  ServoLoop loop(&device, config, &poses, &models, [] {});
-
-  // One contact model (k = 500 N/m at the surface -> 1 N at 2 mm), then silence.
+  // One contact model (k = 500 N/m at the surface -> 1 N at 2 mm), then
+  // silence. It arrives in the first tick, where the I/O wake-up runs, so its
+  // age counts from the loop's start however long the start takes (seconds
+  // under ThreadSanitizer).
   ReceivedModel m;
   m.msg.state = 1;
   m.msg.normal[2] = 1.0;
   m.msg.stiffness_n_per_m = 500.0;
   m.msg.echo_pose_seq = 0;
-  m.received_ns = common::SteadyNowNs();
-  models.Publish(m);
+  bool model_sent = false;
+  ServoLoop loop(&device, config, &poses, &models, [&] {
+    if (model_sent) return;
+    m.received_ns = common::SteadyNowNs();
+    models.Publish(m);
+    model_sent = true;
+  });
   std::atomic<bool> stop{false};
   const ServoReport r = loop.Run(stop);
 
