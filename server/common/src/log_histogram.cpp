@@ -24,7 +24,7 @@ void LogHistogram::Record(double value) {
     // table settles rounding in the logarithm.
     bin = static_cast<std::size_t>(std::ceil(std::log(value / lowest_) / log_ratio_));
     bin = std::min(bin, upper_edge_.size());
-    while (bin > 1 && bin <= upper_edge_.size() && value <= upper_edge_[bin - 1]) --bin;
+    while (bin > 1 && value <= upper_edge_[bin - 1]) --bin;
     while (bin < upper_edge_.size() && value > upper_edge_[bin]) ++bin;
   }
   ++counts_[bin];
@@ -47,10 +47,8 @@ Percentiles LogHistogram::Summary() const {
   p.min = min_;
   p.max = max_;
   p.mean = sum_ / static_cast<double>(count_);
-  // Nearest rank, as SampleWindow: the k-th smallest with k = ceil(q n).
   const auto rank = [&](double q) {
-    const auto k = std::clamp<std::uint64_t>(
-        static_cast<std::uint64_t>(std::ceil(q * static_cast<double>(count_))), 1, count_);
+    const std::uint64_t k = NearestRank(q, static_cast<std::size_t>(count_));
     std::uint64_t seen = 0;
     for (std::size_t b = 0; b < counts_.size(); ++b) {
       seen += counts_[b];

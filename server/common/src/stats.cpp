@@ -7,17 +7,17 @@
 
 namespace hapsim::common {
 
+std::size_t NearestRank(double q, std::size_t n) {
+  return std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(q * static_cast<double>(n))), 1, n);
+}
+
 Percentiles SampleWindow::Summary() const {
   Percentiles p;
   p.count = size_;
   if (size_ == 0) return p;
   std::vector<double> v(ring_.begin(), ring_.begin() + static_cast<std::ptrdiff_t>(size_));
   std::sort(v.begin(), v.end());
-  // nearest-rank percentile
-  const auto rank = [&](double q) {
-    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
-    return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
-  };
+  const auto rank = [&](double q) { return v[NearestRank(q, v.size()) - 1]; };
   p.min = v.front();
   p.max = v.back();
   p.p50 = rank(0.50);

@@ -13,6 +13,10 @@ struct Percentiles {
   double min = 0, p50 = 0, p99 = 0, max = 0, mean = 0;
 };
 
+// Nearest rank: the k-th smallest of n samples (1-based) is the q-quantile,
+// k = ceil(q n) kept within [1, n]. Shared by every percentile we report.
+std::size_t NearestRank(double q, std::size_t n);
+
 class SampleWindow {
  public:
   explicit SampleWindow(std::size_t capacity = 1 << 16) : ring_(capacity) {}
