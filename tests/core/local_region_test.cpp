@@ -19,10 +19,10 @@ MsmModel Patch() {
 }
 
 constexpr std::int32_t kCentre = 15 * 31 + 15;
-constexpr IntegratorChoice kSymplectic{IntegratorKind::kSymplecticEuler, 0.5};
+constexpr IntegratorChoice kRegionSymplectic{IntegratorKind::kSymplecticEuler, 0.5};
 
 // Press the centre node with 0.5 N for 100 ms, full or local.
-MsmState Press(const MsmModel& model, const LocalRegion* region, IntegratorChoice method = kSymplectic) {
+MsmState Press(const MsmModel& model, const LocalRegion* region, IntegratorChoice method = kRegionSymplectic) {
   MsmState state = MakeMsmState(model);
   MsmWorkspace ws = MakeMsmWorkspace(model);
   state.f_ext_N(2, kCentre) = -0.5;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
@@ -14,7 +15,6 @@ namespace hapsim::core {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 void CheckDef(const MeshlessDef& d) {
   const auto n = static_cast<std::size_t>(d.x0_m.cols());
@@ -49,7 +49,7 @@ void CheckDef(const MeshlessDef& d) {
 double MeshlessKernel(double r_m, double h_m) {
   if (r_m >= h_m) return 0.0;
   const double q = h_m * h_m - r_m * r_m;
-  return 315.0 / (64.0 * kPi * std::pow(h_m, 9)) * q * q * q;
+  return 315.0 / (64.0 * std::numbers::pi * std::pow(h_m, 9)) * q * q * q;
 }
 
 double LameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }

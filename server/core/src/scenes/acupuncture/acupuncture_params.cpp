@@ -7,7 +7,7 @@ namespace hapsim::core {
 
 namespace {
 
-ParamTable<AcupunctureParams> MakeTable() {
+ParamTable<AcupunctureParams> MakeAcupunctureTable() {
   using P = AcupunctureParams;
   ParamTable<P> t("acupuncture");
   t.Add({.name = "shf_lmax", .unit = "count", .min = 1, .max = AcupunctureLimits::kMaxShfLmax, .integer = true,
@@ -87,7 +87,7 @@ ParamTable<AcupunctureParams> MakeTable() {
 }  // namespace
 
 const ParamTable<AcupunctureParams>& AcupunctureParamTable() {
-  static const ParamTable<AcupunctureParams> table = MakeTable();
+  static const ParamTable<AcupunctureParams> table = MakeAcupunctureTable();
   return table;
 }
 

@@ -8,7 +8,7 @@ namespace hapsim::core {
 
 namespace {
 
-ParamTable<CuttingParams> MakeTable() {
+ParamTable<CuttingParams> MakeCuttingTable() {
   using P = CuttingParams;
   ParamTable<P> t("cutting");
   t.Add({.name = "patch_length_m", .unit = "m", .min = 0.005, .max = 0.3, .description = "skin patch length (x)"},
@@ -83,7 +83,7 @@ ParamTable<CuttingParams> MakeTable() {
 }  // namespace
 
 const ParamTable<CuttingParams>& CuttingParamTable() {
-  static const ParamTable<CuttingParams> table = MakeTable();
+  static const ParamTable<CuttingParams> table = MakeCuttingTable();
   return table;
 }
 

@@ -50,7 +50,7 @@ void CheckStepCost(const TissueBlockParams& p) {
   throw std::invalid_argument(msg.str());
 }
 
-ParamTable<TissueBlockParams> MakeTable() {
+ParamTable<TissueBlockParams> MakeTissueBlockTable() {
   using P = TissueBlockParams;
   ParamTable<P> t("tissue_block");
   std::vector<std::string> integrators;
@@ -111,7 +111,7 @@ ParamTable<TissueBlockParams> MakeTable() {
 }  // namespace
 
 const ParamTable<TissueBlockParams>& TissueBlockParamTable() {
-  static const ParamTable<TissueBlockParams> table = MakeTable();
+  static const ParamTable<TissueBlockParams> table = MakeTissueBlockTable();
   return table;
 }
 

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
 namespace hapsim::core {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // The centreline as segments in the horizontal plane: straight runs and arcs
 // (signed turn). Sampled by arc length.
@@ -68,7 +68,7 @@ void Check(const VesselGeometryDef& d) {
   if (d.radial_layers < 2 || d.radial_layers > 16) throw std::invalid_argument("vessel: radial layers must be in [2, 16]");
   if (d.shape != VesselShape::kStraight) {
     positive(d.bend_radius_m, "bend radius");
-    if (!(std::abs(d.bend_angle_rad) > 0.0 && std::abs(d.bend_angle_rad) <= kPi)) {
+    if (!(std::abs(d.bend_angle_rad) > 0.0 && std::abs(d.bend_angle_rad) <= std::numbers::pi)) {
       throw std::invalid_argument("vessel: bend angle must be in (0, pi] rad");
     }
     const double r_out = d.lumen_radius_m + d.wall_thickness_m;
@@ -91,7 +91,7 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
   g.outer_radius_m = r_out;
   g.layers = d.radial_layers;
   g.stations = std::max(2, static_cast<int>(std::lround(d.length_m / d.node_spacing_m)) + 1);
-  g.ring = std::max(6, static_cast<int>(std::lround(2.0 * kPi * 0.5 * (r_in + r_out) / d.node_spacing_m)));
+  g.ring = std::max(6, static_cast<int>(std::lround(2.0 * std::numbers::pi * 0.5 * (r_in + r_out) / d.node_spacing_m)));
   const double nodes = static_cast<double>(g.stations) * g.layers * g.ring;
   if (nodes > 200000) {
     throw std::invalid_argument("vessel: " + std::to_string(static_cast<long long>(nodes)) +
@@ -121,7 +121,7 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
     lo_r[u] = l == 0 ? r_in : 0.5 * (radius[u - 1] + radius[u]);
     hi_r[u] = l == g.layers - 1 ? r_out : 0.5 * (radius[u] + radius[u + 1]);
   }
-  const double dphi = 2.0 * kPi / g.ring;
+  const double dphi = 2.0 * std::numbers::pi / g.ring;
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   auto offset = [&](int k, double r, int a) {
     const Eigen::Vector3d tangent(t[static_cast<std::size_t>(k)].x(), t[static_cast<std::size_t>(k)].y(), 0.0);

@@ -1,6 +1,7 @@
 #include "hapsim/core/scenes/vessel/vessel_params.h"
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -8,9 +9,8 @@ namespace hapsim::core {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
-ParamTable<VesselParams> MakeTable() {
+ParamTable<VesselParams> MakeVesselTable() {
   using P = VesselParams;
   ParamTable<P> t("vessel");
   t.Add({.name = "model", .unit = "code", .min = 0, .max = 2, .integer = true,
@@ -87,7 +87,7 @@ double Or(double value, double fallback) { return value > 0.0 ? value : fallback
 }  // namespace
 
 const ParamTable<VesselParams>& VesselParamTable() {
-  static const ParamTable<VesselParams> table = MakeTable();
+  static const ParamTable<VesselParams> table = MakeVesselTable();
   return table;
 }
 
@@ -100,11 +100,11 @@ VesselGeometryDef VesselGeometryFor(const VesselParams& p) {
       break;
     case VesselShape::kBent:  // aortic arch
       d.length_m = 0.134, d.lumen_radius_m = 12.5e-3, d.wall_thickness_m = 2e-3, d.node_spacing_m = 3.2e-3;
-      d.bend_radius_m = 0.03, d.bend_angle_rad = kPi;
+      d.bend_radius_m = 0.03, d.bend_angle_rad = std::numbers::pi;
       break;
     case VesselShape::kTwiceBent:  // retinal arteriole
       d.length_m = 3e-3, d.lumen_radius_m = 60e-6, d.wall_thickness_m = 20e-6, d.node_spacing_m = 35e-6;
-      d.bend_radius_m = 0.5e-3, d.bend_angle_rad = kPi / 3;
+      d.bend_radius_m = 0.5e-3, d.bend_angle_rad = std::numbers::pi / 3;
       break;
   }
   d.length_m = Or(p.length_m, d.length_m);
@@ -120,7 +120,7 @@ VesselParams ParseVesselParams(const std::map<std::string, double>& params) {
   const VesselGeometryDef d = VesselGeometryFor(p);
   const double stations = std::max(2.0, std::round(d.length_m / d.node_spacing_m) + 1);
   const double ring =
-      std::max(6.0, std::round(2.0 * kPi * (d.lumen_radius_m + 0.5 * d.wall_thickness_m) / d.node_spacing_m));
+      std::max(6.0, std::round(2.0 * std::numbers::pi * (d.lumen_radius_m + 0.5 * d.wall_thickness_m) / d.node_spacing_m));
   const double nodes = stations * ring * d.radial_layers;
   if (nodes > VesselLimits::kMaxNodes) {
     std::ostringstream msg;
