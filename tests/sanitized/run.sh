@@ -30,6 +30,6 @@ cd "$build"
 # test ~100 s, the service replay test of the vessel likewise), against
 # 0.3-2.3 s in release; the same code runs here in
 # the shorter Meshless.*, Xpbd*, VesselGeometry and VesselScene.* tests.
-slow='Meshless\.UniaxialTension|VesselScene\.APress|SceneContract\..*vessel|EveryScene\..*vessel'
+slow='Meshless\.UniaxialTension|SceneContract\..*vessel|EveryScene\..*vessel'
 ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|service|device-bridge|client-viewer)$' \
     -E "$slow"
