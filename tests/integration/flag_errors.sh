@@ -74,5 +74,50 @@ expect 2 "cannot read token file" "$bin/hapsim-ctl" --server 127.0.0.1:9 --token
 expect 2 "cannot read TLS CA" "$bin/hapsim-ctl" --server 127.0.0.1:9 --tls-ca "$tmp/none.pem" list
 expect 2 "needs TLS: give --tls-ca too" "$bin/hapsim-viewer" --session s --tls-cert "$tmp/c.pem" --tls-key "$tmp/c.key"
 expect 2 "--count wants a whole number" "$bin/hapsim-ctl" --server 127.0.0.1:9 watch c --count 0
+# The flag grammar every Flags executable shares (row 72), and --help: usage
+# on stdout, exit 0, for all six executables (rows 72-79).
+for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer; do
+  expect 2 "$prog: unknown flag --frobnicate (see --help)" "$bin/$prog" --frobnicate
+  expect 2 "$prog: unexpected argument 'stray' (flags start with --; see --help)" "$bin/$prog" stray
+done
+for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate; do
+  expect 0 "usage: $prog" bash -c '"$0" --help >&2' "$bin/$prog"
+done
+expect 2 "bad value 'abc' for --seconds (see --help)" "$bin/hapsim-bridge" --seconds abc
+expect 2 "bad value '5x' for --frame-rate-hz (see --help)" "$bin/hapsim-server" --frame-rate-hz 5x
+expect 2 "bad value '99999999999' for --devices (see --help)" "$bin/hapsim-load" --devices 99999999999
+expect 2 "flag --seconds needs a value (see --help)" "$bin/hapsim-bridge" --seconds
+# hapsim-load's own plan flags (row 76).
+expect 2 "--devices must be in \[1, 1024\]" "$bin/hapsim-load" --devices 0
+expect 2 "--devices must be in \[1, 1024\]" "$bin/hapsim-load" --devices 2000
+expect 2 "session 'a' is listed twice" "$bin/hapsim-load" --sessions a,a
+expect 2 "--phase-spread-s must be >= 0" "$bin/hapsim-load" --phase-spread-s -1
+expect 2 "--interval-s must be within 0 (off) or \[0.1, 1e7\]" "$bin/hapsim-load" --interval-s 0.05
+expect 2 "--intervals-csv needs --interval-s" "$bin/hapsim-load" --intervals-csv "${TMPDIR:-/tmp}/x.csv"
+# hapsim-ctl's own mistakes (row 78).
+expect 2 "usage: hapsim-ctl" "$bin/hapsim-ctl"
+expect 2 "unknown command 'frob'" "$bin/hapsim-ctl" --server 127.0.0.1:9 frob
+expect 2 "close needs a session id" "$bin/hapsim-ctl" --server 127.0.0.1:9 close
+expect 2 "--timeout-s wants seconds in (0, 3600], got '0'" "$bin/hapsim-ctl" --timeout-s 0 list
+expect 2 "--param wants KEY=NUMBER, got 'k'" "$bin/hapsim-ctl" --server 127.0.0.1:9 create s --param k
+# A file the process cannot use stops it with exit 1 naming the file
+# (docs/reliability.md rows 66, 69, 70, 71, 79, 80).
+printf 't_s,x\n0,abc\n' >"$tmp/bad-poses.csv"
+expect 1 "cannot open pose log '$tmp/none.csv'" "$bin/hapsim-bridge" --backend replay --replay-file "$tmp/none.csv"
+expect 1 "pose log line 2: field 2 is not a finite number" "$bin/hapsim-bridge" --backend replay \
+    --replay-file "$tmp/bad-poses.csv"
+expect 1 "cannot create DDS domain 0 from file $tmp/none.xml" "$bin/hapsim-server" --listen 127.0.0.1:0 \
+    --dds-config "$tmp/none.xml"
+expect 1 "cannot create DDS domain 0 from file $tmp/none.xml" "$bin/hapsim-bridge" --dds-config "$tmp/none.xml"
+expect 1 "cannot create DDS participant (domain 0, config CYCLONEDDS_URI=file://$tmp/none.xml)" \
+    env CYCLONEDDS_URI="file://$tmp/none.xml" "$bin/hapsim-bridge" --dds-config ""
+expect 1 "cannot write --port-file $tmp/no-dir/port" "$bin/hapsim-server" --listen 127.0.0.1:0 \
+    --port-file "$tmp/no-dir/port"
+expect 1 "cannot connect to the server within 0.5" "$bin/hapsim-viewer" --session s --headless \
+    --server 127.0.0.1:9 --connect-timeout-s 0.5
+expect 2 "usage: hapsim-validate" bash -c '"$0" >&2' "$bin/hapsim-validate"  # usage on stdout
+expect 2 "unknown command 'frobnicate'" "$bin/hapsim-validate" frobnicate --out "$tmp/v"
+expect 2 "unknown argument '--bogus'" "$bin/hapsim-validate" puncture --out "$tmp/v" --bogus
+expect 2 "--out DIR is required" "$bin/hapsim-validate" puncture
 echo "$failures failed"
 [ "$failures" -eq 0 ]

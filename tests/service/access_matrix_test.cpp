@@ -4,10 +4,14 @@
 // a session of another class) -> the status the role table in
 // access_policy.h promises. Prints the matrix it saw.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <unistd.h>
 
@@ -279,6 +283,99 @@ TEST_F(AccessMatrixTest, EveryRpcRoleAndTargetGetsThePromisedStatus) {
   // Every refusal was counted for /metrics.
   EXPECT_GT(app_->policy().counters().unauthenticated.load(), 0u);
   EXPECT_GT(app_->policy().counters().permission_denied.load(), 0u);
+}
+
+// Row 86 of docs/reliability.md: a class view asked at a rate outside
+// [0.1, 50] Hz is refused before it holds anything, and a 17th view while
+// 16 are open is RESOURCE_EXHAUSTED naming the limit (each holds a server
+// thread); closing one frees its place.
+TEST_F(AccessMatrixTest, AClassViewOutsideTheRateRangeOrPastTheLimitIsRefused) {
+  const auto watch = [&](grpc::ClientContext* ctx, double rate_hz) {
+    Prepare(ctx, Caller::kInstructor);
+    v1::WatchClassRequest req;
+    req.set_class_name("a");
+    req.set_rate_hz(rate_hz);
+    return sessions_->WatchClass(ctx, req);
+  };
+  for (const double bad : {0.05, 50.5, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    grpc::ClientContext ctx;
+    auto reader = watch(&ctx, bad);
+    v1::ClassStatus status;
+    EXPECT_FALSE(reader->Read(&status)) << bad;
+    const auto finished = reader->Finish();
+    EXPECT_EQ(finished.error_code(), StatusCode::INVALID_ARGUMENT) << bad;
+    EXPECT_NE(finished.error_message().find("rate_hz must be 0 (10 Hz) or within [0.1, 50]"), std::string::npos);
+  }
+  constexpr int kLimit = SessionServiceImpl::kMaxWatchStreams;
+  std::vector<std::unique_ptr<grpc::ClientContext>> open_ctx;
+  std::vector<std::unique_ptr<grpc::ClientReader<v1::ClassStatus>>> open;
+  for (int k = 0; k < kLimit; ++k) {
+    open_ctx.push_back(std::make_unique<grpc::ClientContext>());
+    open.push_back(watch(open_ctx.back().get(), 0.0));
+    v1::ClassStatus first;
+    ASSERT_TRUE(open.back()->Read(&first)) << "view " << k;  // the server counts it once it writes
+  }
+  {
+    grpc::ClientContext ctx;
+    auto reader = watch(&ctx, 0.0);
+    v1::ClassStatus status;
+    EXPECT_FALSE(reader->Read(&status));
+    const auto finished = reader->Finish();
+    EXPECT_EQ(finished.error_code(), StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(finished.error_message().find("already serves 16 class views"), std::string::npos)
+        << finished.error_message();
+  }
+  open_ctx.front()->TryCancel();  // the instructor closes one view
+  open.front()->Finish();
+  bool reopened = false;
+  const auto until = std::chrono::steady_clock::now() + 10s;
+  while (!reopened && std::chrono::steady_clock::now() < until) {
+    grpc::ClientContext ctx;
+    auto reader = watch(&ctx, 0.0);
+    v1::ClassStatus status;
+    reopened = reader->Read(&status);
+    ctx.TryCancel();
+    reader->Finish();
+    if (!reopened) std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_TRUE(reopened) << "a closed view's place was not freed";
+  for (std::size_t k = 1; k < open.size(); ++k) {
+    open_ctx[k]->TryCancel();
+    open[k]->Finish();
+  }
+}
+
+// Row 87: a scenario the class cannot run (unknown scene, unknown or
+// non-finite parameter) is refused with the reason before any session of
+// the class is closed or rebuilt.
+TEST_F(AccessMatrixTest, ABadPushedScenarioIsRefusedSayingWhyAndTouchesNoSession) {
+  EnsureSession("t1");
+  EnsureSession("t2");
+  const auto t1 = app_->registry().Find("t1");
+  const auto t2 = app_->registry().Find("t2");
+  struct Case {
+    const char* scene;
+    const char* key;
+    double value;
+    const char* reason;
+  };
+  for (const Case& c : {Case{"no_such_scene", nullptr, 0.0, "no_such_scene"},
+                        Case{"tissue_block", "no_such_param", 1.0, "no_such_param"},
+                        Case{"tissue_block", "grid_nodes", std::nan(""), "scene parameter 'grid_nodes' is not finite"}}) {
+    grpc::ClientContext ctx;
+    Prepare(&ctx, Caller::kInstructor);
+    v1::PushScenarioRequest req;
+    req.set_class_name("a");
+    req.set_scene(c.scene);
+    if (c.key) (*req.mutable_params())[c.key] = c.value;
+    v1::PushScenarioResponse out;
+    const auto status = sessions_->PushScenario(&ctx, req, &out);
+    EXPECT_EQ(status.error_code(), StatusCode::INVALID_ARGUMENT) << c.scene;
+    EXPECT_NE(status.error_message().find(c.reason), std::string::npos) << status.error_message();
+    EXPECT_EQ(out.sessions_size(), 0);
+    EXPECT_EQ(app_->registry().Find("t1"), t1) << "t1 was rebuilt";
+    EXPECT_EQ(app_->registry().Find("t2"), t2) << "t2 was rebuilt";
+  }
 }
 
 }  // namespace
