@@ -9,7 +9,8 @@
 #
 # A batch is one translation unit, so two files of a target must not both
 # define the same name in an anonymous namespace: give file-local helpers
-# and constants names that say whose they are (kVesselTick_s, not kTick_s).
+# names that say whose they are (MakeCuttingTable, not MakeTable), and put a
+# constant several files need in a header they share (kMaxToolSpeed_m_per_s).
 # HAPSIM_UNITY_BUILD=OFF builds file by file — the way to find a file that
 # compiles only because an earlier file of its batch included something.
 option(HAPSIM_UNITY_BUILD "Compile each library and test executable in batches of 8 files" ON)

@@ -12,11 +12,11 @@
 #include "allocation_counter.h"
 #include "hapsim/core/haptics/local_force_model.h"
 #include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
+#include "scene_tick.h"
 
 namespace hapsim::core {
 namespace {
 
-constexpr double kTick_s = 1e-3;
 constexpr double kSpeed_m_per_s = 5e-3;
 
 ToolInput VerticalTool(double z_m, double vz_m_per_s) {

@@ -11,12 +11,11 @@
 
 #include "allocation_counter.h"
 #include "hapsim/core/scenes/cutting/cutting_scene.h"
+#include "scene_tick.h"
 #include "skin_invariants.h"
 
 namespace hapsim::core {
 namespace {
-
-constexpr double kCuttingTick_s = 1e-3;
 
 // A scalpel stroke as the synthetic device's `cut` script draws it: approach
 // from 5 mm above at speed, press to depth, draw `length` along `heading`,
@@ -35,7 +34,7 @@ std::vector<ToolInput> Stroke(Eigen::Vector2d entry, double heading_rad, double 
     t.velocity_W_m_per_s = v;
     out.push_back(t);
   };
-  const double step = speed_m_per_s * kCuttingTick_s;
+  const double step = speed_m_per_s * kTick_s;
   for (double z = 0.005; z > -depth_m; z -= step) add({entry.x(), entry.y(), z}, {0, 0, -speed_m_per_s});
   for (double u = 0.0; u <= length_m; u += step)
     add({entry.x() + u * d.x(), entry.y() + u * d.y(), -depth_m}, {speed_m_per_s * d.x(), speed_m_per_s * d.y(), 0});
@@ -45,7 +44,7 @@ std::vector<ToolInput> Stroke(Eigen::Vector2d entry, double heading_rad, double 
 }
 
 void Drive(Scene& s, const std::vector<ToolInput>& tools) {
-  for (const auto& t : tools) s.Step(t, kCuttingTick_s);
+  for (const auto& t : tools) s.Step(t, kTick_s);
 }
 
 int CountEvents(const Scene& s, SceneEventKind kind) {
@@ -92,7 +91,7 @@ TEST(CuttingScene, ResidualStressOpensTheWound) {
   ASSERT_NE(a, kNoSlot);
   const double width_now = (skin.state.x_m.col(a) - skin.state.x_m.col(b)).norm();
   ToolInput away;  // the tool gone: the wound relaxes under residual stress alone
-  for (int k = 0; k < 1500; ++k) scene.Step(away, kCuttingTick_s);
+  for (int k = 0; k < 1500; ++k) scene.Step(away, kTick_s);
   const double width_settled = (skin.state.x_m.col(a) - skin.state.x_m.col(b)).norm();
   EXPECT_GT(width_now, 1e-5);
   EXPECT_GT(width_settled, 1e-4);  // a visible gape (docs/validation.md has the curve)
@@ -104,7 +103,7 @@ TEST(CuttingScene, TheDeviceFeelsNothingInAirAPushWhenPressingAndTheDragLawWhile
   const auto stroke = Stroke({-0.01, 0.0003}, 0.0, 0.02);
   bool saw_free = false, saw_contact = false, saw_cutting = false;
   for (const auto& t : stroke) {
-    scene.Step(t, kCuttingTick_s);
+    scene.Step(t, kTick_s);
     const LocalForceModel m = scene.ForceModel();
     const Eigen::Vector3d f = scene.ToolForce_W_N();
     // The model the device renders reproduces the physics force at the tip.

@@ -13,11 +13,10 @@
 
 #include "allocation_counter.h"
 #include "hapsim/core/scenes/scene.h"
+#include "scene_tick.h"
 
 namespace hapsim::core {
 namespace {
-
-constexpr double kTick_s = 1e-3;
 
 // Final StateHash() of each scene after ScriptedInsertion() from a fresh
 // default scene (Debian 12, gcc, this libm). A change means the physics or

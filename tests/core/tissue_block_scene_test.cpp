@@ -12,11 +12,10 @@
 #include "allocation_counter.h"
 #include "hapsim/core/msm/msm_forces.h"
 #include "hapsim/core/scenes/scene_builders.h"
+#include "scene_tick.h"
 
 namespace hapsim::core {
 namespace {
-
-constexpr double kTick_s = 1e-3;
 
 ToolInput ToolAt(double x, double y, double z) {
   ToolInput t;

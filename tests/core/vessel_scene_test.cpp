@@ -9,11 +9,10 @@
 #include "core/allocation_counter.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/vessel/vessel_scene.h"
+#include "core/scene_tick.h"
 
 namespace hapsim::core {
 namespace {
-
-constexpr double kVesselTick_s = 1e-3;
 
 ToolInput TipAt(double x, double y, double z) {
   ToolInput t;
@@ -27,7 +26,7 @@ TEST(VesselScene, EveryShapeBuildsAtItsDefaultsWithinTheNodeLimit) {
     VesselScene scene(ParseVesselParams({{"shape", shape}}));
     EXPECT_LE(scene.Model().n, VesselLimits::kMaxNodes) << shape;
     EXPECT_GE(scene.Model().fewest_neighbours, 6) << shape;
-    scene.Step(ToolInput{}, kVesselTick_s);  // no tool: nothing moves from rest
+    scene.Step(ToolInput{}, kTick_s);  // no tool: nothing moves from rest
     EXPECT_LT((scene.Nodes_m() - scene.Geometry().nodes_m).cwiseAbs().maxCoeff(), 1e-12) << shape;
     std::printf("shape %d: %d nodes, %ld surface vertices, fewest neighbours %d, mass scale %.0f\n", shape,
                 scene.Model().n, static_cast<long>(scene.Vertices_m().cols()), scene.Model().fewest_neighbours,
@@ -44,7 +43,7 @@ TEST(VesselScene, APressOnTheTopPushesTheProbeUpAndDentsTheWall) {
   int rising = 0, samples = 0;
   for (int k = 0; k <= 400; ++k) {
     const double z = probe + 1e-3 - 5e-6 * k;
-    scene.Step(TipAt(3e-4, 0.0, z), kVesselTick_s);
+    scene.Step(TipAt(3e-4, 0.0, z), kTick_s);
     const Eigen::Vector3d f = scene.ToolForce_W_N();
     if (k % 40 == 0 && z < probe - 1e-4) {
       ++samples;
@@ -86,7 +85,7 @@ TEST(VesselScene, TooManyNodesAreRefusedBeforeBuilding) {
 TEST(VesselScene, ANonFiniteOrFarAwayToolIsAbsentNotACrash) {
   VesselScene scene(VesselParams{});
   for (const ToolInput& t : {TipAt(NAN, 0, 0), TipAt(0, 0, 1e9), TipAt(0, INFINITY, 0)}) {
-    scene.Step(t, kVesselTick_s);
+    scene.Step(t, kTick_s);
     EXPECT_EQ(scene.ToolForce_W_N(), Eigen::Vector3d::Zero());
     EXPECT_EQ(scene.ForceModel().state, ContactState::kFree);
   }
@@ -96,7 +95,7 @@ TEST(VesselScene, ANonFiniteOrFarAwayToolIsAbsentNotACrash) {
 TEST(VesselScene, ABlowUpIsCountedAndTheSceneResetsItself) {
   // Any motion exceeds a kinetic-energy limit of 1e-30 J: the guard fires.
   VesselScene scene(ParseVesselParams({{"max_kinetic_energy_J", 1e-30}}));
-  for (int k = 0; k < 50; ++k) scene.Step(TipAt(0, 0, 5e-4 - 1e-5 * k), kVesselTick_s);
+  for (int k = 0; k < 50; ++k) scene.Step(TipAt(0, 0, 5e-4 - 1e-5 * k), kTick_s);
   EXPECT_GT(scene.Status().numerical_resets, 0u);
   EXPECT_TRUE(scene.Nodes_m().allFinite());
 }
@@ -117,11 +116,11 @@ TEST_P(VesselBaselines, APressPushesBackAndTicksAllocateNothing) {
   params.model = GetParam() == 3 ? 0 : GetParam();
   if (GetParam() == 3) params.tet_fraction = 0.2;
   VesselScene scene(params);
-  scene.Step(ToolInput{}, kVesselTick_s);
+  scene.Step(ToolInput{}, kTick_s);
   std::uint64_t allocations = 0;
   {
     test::ScopedAllocationCount count;
-    for (int k = 0; k <= 400; ++k) scene.Step(TipAt(3e-4, 0.0, params.probe_radius_m + 1e-3 - 5e-6 * k), kVesselTick_s);
+    for (int k = 0; k <= 400; ++k) scene.Step(TipAt(3e-4, 0.0, params.probe_radius_m + 1e-3 - 5e-6 * k), kTick_s);
     allocations = count.Count();
   }
   EXPECT_EQ(allocations, 0u);

@@ -40,16 +40,11 @@ fuzz_one() {
 }
 status=0
 running=0
+reap_one() { wait -n || status=1; running=$((running - 1)); }
 for exe in "$build"/fuzz/fuzz_*; do
-  if [ "$running" -ge "$jobs" ]; then
-    wait -n || status=1
-    running=$((running - 1))
-  fi
+  [ "$running" -ge "$jobs" ] && reap_one
   fuzz_one "$exe" &
   running=$((running + 1))
 done
-while [ "$running" -gt 0 ]; do
-  wait -n || status=1
-  running=$((running - 1))
-done
+while [ "$running" -gt 0 ]; do reap_one; done
 exit $status

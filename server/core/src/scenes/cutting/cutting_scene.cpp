@@ -17,7 +17,6 @@ namespace {
 constexpr double kSubstep_s = 1e-3;     // the largest step; a longer tick sub-steps
 constexpr int kMaxSubsteps = 10;
 constexpr int kMaxCommitsPerStep = 4;   // bounds a step's cost if the blade jumps far
-constexpr double kMaxCuttingToolSpeed_m_per_s = 10.0;
 constexpr double kParkedTipZ_m = 0.05;  // where the blade is drawn while there is no tool
 const IntegratorChoice kIntegrator{IntegratorKind::kSymplecticEuler, 0.5};
 
@@ -121,7 +120,7 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   const bool usable = ToolUsable(tool);
   if (usable) {
     const double speed = tool.velocity_W_m_per_s.norm();
-    if (speed > kMaxCuttingToolSpeed_m_per_s) tool.velocity_W_m_per_s *= kMaxCuttingToolSpeed_m_per_s / speed;
+    if (speed > kMaxToolSpeed_m_per_s) tool.velocity_W_m_per_s *= kMaxToolSpeed_m_per_s / speed;
   }
   const Cylinder blade = BladeOf(tool);
   UpdateBladeMesh(blade);

@@ -15,8 +15,6 @@ namespace {
 // Fraction of the critical step a scene may use: the Gershgorin bound is
 // conservative near rest, but stretched springs stiffen transversally.
 constexpr double kCriticalStepSafety = 0.9;
-// Tool speed used by the contact damper is clamped to this [m/s].
-constexpr double kMaxBlockToolSpeed_m_per_s = 10.0;
 
 }  // namespace
 
@@ -134,7 +132,7 @@ TissueBlockScene::Contact TissueBlockScene::FindContact(const ToolInput& tool) c
   c.penetration_m = std::min(penetration_m, params_.max_penetration_m);
   // A hand moves well below 10 m/s; anything else is a bad device reading.
   const double reported_vz = tool.velocity_W_m_per_s.z();
-  const double tip_vz_m_per_s = std::isfinite(reported_vz) ? std::clamp(reported_vz, -kMaxBlockToolSpeed_m_per_s, kMaxBlockToolSpeed_m_per_s) : 0.0;
+  const double tip_vz_m_per_s = std::isfinite(reported_vz) ? std::clamp(reported_vz, -kMaxToolSpeed_m_per_s, kMaxToolSpeed_m_per_s) : 0.0;
   // Clamped at 0: the damper never pulls the tool into the tissue.
   c.push_N = std::max(0.0, params_.contact_stiffness_N_per_m * c.penetration_m +
                                params_.contact_damping_Ns_per_m * (surface_vz_m_per_s - tip_vz_m_per_s));

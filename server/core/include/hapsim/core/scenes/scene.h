@@ -41,6 +41,10 @@ struct ToolInput {
   std::uint32_t buttons = 0;
 };
 
+// A reported tool speed past this is no hand's [m/s]: the scenes that use the
+// tool's velocity (contact damping, the blade's sweep) clamp it here.
+inline constexpr double kMaxToolSpeed_m_per_s = 10.0;
+
 enum class SceneEventKind : std::uint8_t {
   kContactBegin = 0,
   kContactEnd = 1,
