@@ -9,9 +9,9 @@ packages=(
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libssl-dev openssl libtinygltf-dev
-  python3 python3-scipy python3-numpy python3-grpcio
+  python3 python3-scipy python3-numpy python3-grpcio curl
   clang libfuzzer-14-dev
-  libglfw3-dev libgl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
+  libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

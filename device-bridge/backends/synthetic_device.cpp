@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "hapsim/core/math/portable_math.h"
+
 namespace hapsim::bridge {
 
 void ValidateSyntheticScript(const SyntheticScript& s) {
@@ -78,9 +80,10 @@ DeviceReading SyntheticDevice::CutPose(const SyntheticScript& s, double t) {
   auto path = [&](double u, Eigen::Vector2d* heading) {
     const double a0 = s.cut_angle_rad, k = s.cut_bend_rad / s.cut_length_m;
     const double a = a0 + k * u;
-    *heading = Eigen::Vector2d(std::cos(a), std::sin(a));
-    if (std::abs(k) < 1e-9) return Eigen::Vector2d(u * std::cos(a0), u * std::sin(a0));
-    return Eigen::Vector2d((std::sin(a) - std::sin(a0)) / k, (std::cos(a0) - std::cos(a)) / k);
+    *heading = Eigen::Vector2d(core::pmath::Cos(a), core::pmath::Sin(a));
+    if (std::abs(k) < 1e-9) return Eigen::Vector2d(u * core::pmath::Cos(a0), u * core::pmath::Sin(a0));
+    return Eigen::Vector2d((core::pmath::Sin(a) - core::pmath::Sin(a0)) / k,
+                           (core::pmath::Cos(a0) - core::pmath::Cos(a)) / k);
   };
   const Eigen::Vector2d entry = s.entry_W_m.head<2>();
   Eigen::Vector2d heading;
@@ -112,8 +115,8 @@ DeviceReading SyntheticDevice::CutPose(const SyntheticScript& s, double t) {
   r.tip_W_m = Eigen::Vector3d(at.x(), at.y(), s.entry_W_m.z() + z);
   r.velocity_W_m_per_s = Eigen::Vector3d(vu * heading.x(), vu * heading.y(), vz);
   // The blade's up axis (orientation * +z) leans back against the stroke.
-  const Eigen::Vector3d up(-std::sin(s.blade_tilt_rad) * heading.x(), -std::sin(s.blade_tilt_rad) * heading.y(),
-                           std::cos(s.blade_tilt_rad));
+  const Eigen::Vector3d up(-core::pmath::Sin(s.blade_tilt_rad) * heading.x(),
+                           -core::pmath::Sin(s.blade_tilt_rad) * heading.y(), core::pmath::Cos(s.blade_tilt_rad));
   r.orientation_W = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up);
   return r;
 }

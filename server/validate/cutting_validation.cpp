@@ -22,6 +22,7 @@
 //    removed_per_mm,added_per_mm): along the incision, the three-stage cut
 //    against plain element deletion (remove the triangles the incision
 //    crosses).
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,9 +32,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "hapsim/core/cutting/incision_curve.h"
+#include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/scenes/cutting/cutting_scene.h"
 #include "number_format.h"
 #include "validate_command.h"
@@ -76,7 +76,7 @@ std::pair<std::uint32_t, std::uint32_t> LipPair(const core::SkinMesh& skin, doub
   double best = 1e9;
   for (const std::uint32_t u : skin.lip_nodes) {
     const Eigen::Vector3d p = skin.model.x0_m.col(u);
-    const double d = std::hypot(p.x() - x, p.y() - y0);
+    const double d = core::pmath::Hypot(p.x() - x, p.y() - y0);
     if (d > best + 1e-12) continue;
     for (const std::uint32_t w : skin.lip_nodes)
       if (w != u && (skin.model.x0_m.col(w) - p).norm() < 1e-12) {
@@ -200,7 +200,8 @@ CollisionRow RunCollision(double angle_deg, double tick_fraction, std::ofstream*
   // The contact falls between two ticks (2000 ms + a fraction of one), as a
   // real contact would.
   const double th = angle_deg * std::numbers::pi / 180.0, speed = 0.01, t_contact = 2.0 + tick_fraction * kTick_s;
-  const Eigen::Vector3d up(std::cos(th), 0.0, std::sin(th));  // the blade at angle th to the skin, leaning towards +x
+  const Eigen::Vector3d up(core::pmath::Cos(th), 0.0,
+                           core::pmath::Sin(th));  // the blade at angle th to the skin, leaning towards +x
   // Aim the tip near the grid node nearest (0.3, 0.2) mm, reached at ~2000 ms.
   std::uint32_t target = 0;
   double best = 1e9;
@@ -273,7 +274,7 @@ Quality MeasureQuality(const core::SkinMesh& skin, double y0, const std::vector<
     for (int k = 0; k < 3; ++k) {
       const double cosine = (l[k] * l[k] + l[(k + 2) % 3] * l[(k + 2) % 3] - l[(k + 1) % 3] * l[(k + 1) % 3]) /
                             (2.0 * l[k] * l[(k + 2) % 3]);
-      const double angle = std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi;
+      const double angle = core::pmath::Acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / std::numbers::pi;
       q.min_angle_deg = std::min(q.min_angle_deg, angle);
       if (std::abs(c.x()) < x_inner_m) q.min_angle_inner_deg = std::min(q.min_angle_inner_deg, angle);
     }
@@ -408,7 +409,7 @@ int Run(const std::filesystem::path& out) {
     mean_rel += std::abs(rel) / 5.0;
     within_tick = within_tick && r.detected_s >= r.true_s - 1e-9 && r.detected_s < r.true_s + kTick_s;
     worst_tick = std::max(worst_tick, r.detected_s - r.true_s);
-    worst_point = std::max(worst_point, std::hypot(r.dx_m, r.dy_m));
+    worst_point = std::max(worst_point, core::pmath::Hypot(r.dx_m, r.dy_m));
     times << Fixed(angle, 0) << "," << Fixed(1e3 * r.true_s, 6) << "," << Fixed(1e3 * r.detected_s, 3) << "," << Sci(rel, 4) << "\n";
     points << Fixed(angle, 0) << "," << Sci(1e3 * r.dx_m, 4) << "," << Sci(1e3 * r.dy_m, 4) << "\n";
   }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/msm/paper_problems.h"
 #include "hapsim/core/msm/particle_steppers.h"
 #include "hapsim/core/msm/stability.h"
@@ -207,7 +208,7 @@ double ObservedOrder(const ParticleMethod& m) {
     }
     return e;
   };
-  return std::log2(max_error(0.01) / max_error(0.005));
+  return core::pmath::Log(max_error(0.01) / max_error(0.005)) / std::numbers::ln2;
 }
 
 std::string Label(const ParticleMethod& m) {
@@ -263,8 +264,8 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
       undamped += Fixed(r, 10) + (r > 1.0 ? " (grows)" : "") + (h < 0.4 ? ", " : "");
       if (alpha == 0.375) undamped_38_grows = undamped_38_grows && r > 1.0;
     }
-    md << "| " << Fixed(alpha, 3) << " | " << Fixed(h_stable[alpha], 4) << " s | " << undamped
-       << " | " << Fixed(radius[alpha], 5) << " | " << Fixed(std::exp(-0.5 * g * 0.4), 5) << " |\n";
+    md << "| " << Fixed(alpha, 3) << " | " << Fixed(h_stable[alpha], 4) << " s | " << undamped << " | "
+       << Fixed(radius[alpha], 5) << " | " << Fixed(core::pmath::Exp(-0.5 * g * 0.4), 5) << " |\n";
   }
 
   // The paper's claims on the particle.
@@ -300,7 +301,7 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
                           Fixed(best, 3) + " wins)",
                       best == 0.375, false});
   }
-  const double decay = std::exp(-0.5 * g * 0.4);
+  const double decay = core::pmath::Exp(-0.5 * g * 0.4);
   claims.push_back({"reason at h = 0.4: alpha = 3/8 adds the least numerical damping (spectral radius closest to e^(-c h / 2m))",
                     std::abs(radius[0.375] - decay) < std::abs(radius[0.5] - decay) &&
                         std::abs(radius[0.375] - decay) < std::abs(radius[0.625] - decay),

@@ -19,11 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "hapsim/core/math/portable_math.h"
+#include "hapsim/core/mesh/triangle_mesh.h"
 #include "hapsim/core/shf/layered_sh_body.h"
 #include "hapsim/core/shf/limb_segment.h"
-#include "hapsim/core/mesh/triangle_mesh.h"
-#include "hapsim/io/obj_reader.h"
 #include "hapsim/core/shf/sh_fit.h"
+#include "hapsim/io/obj_reader.h"
 #include "validate_command.h"
 
 namespace hapsim::validate {
@@ -39,12 +40,13 @@ constexpr int kHoldout = 1999;  // directions not among the samples
 
 double EllipsoidRadius(const Eigen::Vector3d& u) {
   const Eigen::Vector3d v = u.normalized();
-  return 1.0 / std::sqrt(std::pow(v.x() / kA, 2) + std::pow(v.y() / kB, 2) + std::pow(v.z() / kC, 2));
+  return 1.0 /
+         std::sqrt(core::pmath::Pow(v.x() / kA, 2) + core::pmath::Pow(v.y() / kB, 2) + core::pmath::Pow(v.z() / kC, 2));
 }
 // Star shape of the OBJ test mesh: a bumpy sphere, radius in direction u.
 double StarRadius(const Eigen::Vector3d& u) {
   const Eigen::Vector3d v = u.normalized();
-  return 0.05 * (1.0 + 0.15 * v.x() * v.y() + 0.1 * std::pow(v.z(), 3) + 0.05 * std::sin(3 * v.x()));
+  return 0.05 * (1.0 + 0.15 * v.x() * v.y() + 0.1 * core::pmath::Pow(v.z(), 3) + 0.05 * core::pmath::Sin(3 * v.x()));
 }
 
 std::string StarObj(int n_theta, int n_phi) {
@@ -84,7 +86,7 @@ Row RadialFit(const std::string& body, int lmax, const Eigen::Matrix3Xd& p,
     const double e = std::abs(sh.Radius_m(0, probe.col(i)) - radius_fn(probe.col(i)));
     worst = std::max(worst, e);
     sum2 += e * e;
-    if (probe(1, i) > std::cos(std::numbers::pi / 6)) site = std::max(site, e);
+    if (probe(1, i) > core::pmath::Cos(std::numbers::pi / 6)) site = std::max(site, e);
   }
   return {body, lmax, static_cast<int>(fit.surface.coeffs_m.rows()), static_cast<int>(p.cols()),
           fit.condition_number, fit.rms_residual_m, fit.max_residual_m, std::sqrt(sum2 / probe.cols()), worst, site};
@@ -126,7 +128,7 @@ int Run(const std::filesystem::path& out) {
       const double err_m = (ShSurfacePoint(fit.surface, y) - exact).norm();
       worst = std::max(worst, err_m);
       sum2 += err_m * err_m;
-      if (probe(1, i) > std::cos(std::numbers::pi / 6)) site = std::max(site, err_m);
+      if (probe(1, i) > core::pmath::Cos(std::numbers::pi / 6)) site = std::max(site, err_m);
     }
     rows.push_back({"ellipsoid_natural", lmax, k, n, fit.condition_number, fit.rms_residual_m, fit.max_residual_m,
                     std::sqrt(sum2 / kHoldout), worst, site});
@@ -159,7 +161,8 @@ int Run(const std::filesystem::path& out) {
       for (int l = 0; l <= kL; ++l)
         for (int m = -l; m <= l; ++m) {
           const double p = std::sph_legendre(static_cast<unsigned>(l), static_cast<unsigned>(std::abs(m)), theta);
-          const double ref = m == 0 ? p : std::numbers::sqrt2 * p * (m > 0 ? std::cos(m * phi) : std::sin(-m * phi));
+          const double ref =
+              m == 0 ? p : std::numbers::sqrt2 * p * (m > 0 ? core::pmath::Cos(m * phi) : core::pmath::Sin(-m * phi));
           worst_value = std::max(worst_value, std::abs(y[RealShBasis::Index(l, m)] - ref));
           char line[128];
           std::snprintf(line, sizeof line, "%d,%d,%.17g,%.17g,%.17g\n", l, m, theta, phi, y[RealShBasis::Index(l, m)]);

@@ -309,7 +309,7 @@ TEST_F(AcupunctureSceneTest, DisplayedSkinFollowsTheNetAndRecoversOnLiftOff) {
 TEST_F(AcupunctureSceneTest, StepAndResetNeverAllocate) {
   Insert(scene_, 0.2e-3);  // warm up every code path once
   scene_.Reset();
-  test::ScopedAllocationCount allocations;
+  hapsim::test::ScopedAllocationCount allocations;
   for (double z = 1e-3; z > -12e-3; z -= 5e-6) {
     scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
     (void)scene_.ForceModel();
@@ -359,6 +359,79 @@ TEST_F(AcupunctureSceneTest, DegenerateGeometryIsCountedAsABlowUpAndResetNotACra
   // And the scene keeps working afterwards.
   const Trace tr = Insert(scene_, 4e-3);
   EXPECT_EQ(tr.punctures.size(), 2u);  // skin at ~2.6 mm, and fat ~1.1 mm deeper
+}
+
+// Contact events of the ticks since `seen` (which it advances), by kind.
+struct EventCounts {
+  int begins = 0, ends = 0, punctures = 0;
+};
+void CountNewEvents(const Scene& scene, std::uint64_t& seen, EventCounts& counts) {
+  const auto ev = scene.Events();
+  for (std::uint64_t e = seen; e < scene.EventsTotal(); ++e) {
+    const SceneEvent& x = ev[ev.size() - (scene.EventsTotal() - e)];
+    counts.begins += x.kind == SceneEventKind::kContactBegin;
+    counts.ends += x.kind == SceneEventKind::kContactEnd;
+    counts.punctures += x.kind == SceneEventKind::kPuncture;
+  }
+  seen = scene.EventsTotal();
+}
+
+// Moves the tip along z at 5 mm/s from from_z_m to to_z_m, counting events.
+void MoveCounting(AcupunctureScene& scene, double from_z_m, double to_z_m, EventCounts& counts) {
+  const double step_m = kSpeed_m_per_s * kTick_s;
+  const double dir = to_z_m > from_z_m ? 1.0 : -1.0;
+  std::uint64_t seen = scene.EventsTotal();
+  for (double z = from_z_m; dir * (to_z_m - z) > 0.0; z += dir * step_m) {
+    scene.Step(VerticalTool(z, dir * kSpeed_m_per_s), kTick_s);
+    CountNewEvents(scene, seen, counts);
+  }
+}
+
+// A surface that the layer above carried down (the fat, pressed from where
+// the skin gave way) starts its contact below its rest surface; withdrawing
+// through the gap must not end and begin that contact every tick. Events
+// say: contact_begin when a layer's surface is touched, puncture when it
+// gives way, contact_end when a pressed surface is lifted off or the needle
+// leaves the tissue. So from every depth between 0.25 and 12 mm a
+// withdrawal gives no begin and at most two ends: one if a layer was being
+// pressed, one for leaving the skin it had pierced.
+TEST_F(AcupunctureSceneTest, WithdrawingFromAnyDepthEndsEachContactExactlyOnce) {
+  for (double depth_m = 0.25e-3; depth_m <= 12e-3 + 1e-12; depth_m += 0.25e-3) {
+    AcupunctureScene scene{AcupunctureParams{}};
+    EventCounts in, out;
+    MoveCounting(scene, 1e-3, -depth_m, in);
+    const int punctured = scene.PuncturedLayers();
+    const bool pressing = scene.Status().current_layer == punctured;
+    ASSERT_EQ(in.punctures, punctured);
+    EXPECT_EQ(in.begins, punctured + (pressing ? 1 : 0)) << "depth " << depth_m * 1e3 << " mm";
+    EXPECT_EQ(in.ends, 0) << "depth " << depth_m * 1e3 << " mm";
+    MoveCounting(scene, -depth_m, 1e-3, out);
+    EXPECT_EQ(out.begins, 0) << "depth " << depth_m * 1e3 << " mm";
+    EXPECT_EQ(out.ends, (pressing ? 1 : 0) + (punctured > 0 ? 1 : 0)) << "depth " << depth_m * 1e3 << " mm";
+    EXPECT_EQ(scene.Status().current_layer, -1);
+  }
+}
+
+// Reset with the needle 12 mm deep, then held there with a trembling hand
+// (+-10 µm) for 3 s and withdrawn: one contact, one end, no storm.
+TEST_F(AcupunctureSceneTest, AResetWithTheNeedleInsideGivesOneContactNotAStorm) {
+  EventCounts counts;
+  MoveCounting(scene_, 1e-3, -12e-3, counts);
+  scene_.Reset();
+  counts = EventCounts{};
+  std::uint64_t seen = scene_.EventsTotal();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> tremor_m(-10e-6, 10e-6);
+  for (int k = 0; k < 3000; ++k) {
+    scene_.Step(VerticalTool(-12e-3 + tremor_m(rng), 0.0), kTick_s);
+    CountNewEvents(scene_, seen, counts);
+  }
+  EXPECT_EQ(counts.begins, 1);
+  EXPECT_EQ(counts.ends, 0);
+  EXPECT_EQ(counts.punctures, 0);
+  MoveCounting(scene_, -12e-3, 1e-3, counts);
+  EXPECT_EQ(counts.ends, 1);
+  EXPECT_EQ(counts.begins, 1);
 }
 
 TEST_F(AcupunctureSceneTest, ResetLogsAnEventAndReturnsToFree) {

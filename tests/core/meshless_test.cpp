@@ -167,7 +167,7 @@ TEST(Meshless, StepAllocatesNothing) {
   const MeshlessModel model = BuildMeshlessModel(Block(4, 4, 4, 2.1));
   MeshlessState state = MakeMeshlessState(model);
   state.f_ext_N.col(5) = Eigen::Vector3d(0, 0, 1e-3);
-  test::ScopedAllocationCount count;
+  hapsim::test::ScopedAllocationCount count;
   for (int k = 0; k < 10; ++k) StepMeshless(model, state, 1e-5);
   EXPECT_EQ(count.Count(), 0u);
 }

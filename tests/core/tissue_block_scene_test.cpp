@@ -244,7 +244,7 @@ TEST(TissueBlock, StepAllocatesNoMemory) {
     p.local_update_hops = code % 2 == 0 ? 3 : 0;  // and the local update path
     TissueBlockScene scene(p);
     scene.Step(ToolAt(0, 0, -0.003), kTick_s);  // warm up
-    test::ScopedAllocationCount allocations;
+    hapsim::test::ScopedAllocationCount allocations;
     for (int k = 0; k < 50; ++k) {
       scene.Step(ToolAt(0.0005 * k, 0, -0.003), kTick_s);
       (void)scene.ForceModel();

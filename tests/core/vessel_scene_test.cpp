@@ -119,7 +119,7 @@ TEST_P(VesselBaselines, APressPushesBackAndTicksAllocateNothing) {
   scene.Step(ToolInput{}, kTick_s);
   std::uint64_t allocations = 0;
   {
-    test::ScopedAllocationCount count;
+    hapsim::test::ScopedAllocationCount count;
     for (int k = 0; k <= 400; ++k) scene.Step(TipAt(3e-4, 0.0, params.probe_radius_m + 1e-3 - 5e-6 * k), kTick_s);
     allocations = count.Count();
   }

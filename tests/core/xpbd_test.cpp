@@ -146,7 +146,7 @@ TEST(Xpbd, BadDefinitionsAreRefused) {
 TEST(Xpbd, StepAllocatesNothing) {
   const XpbdModel model = BuildXpbdModel(Chain(10));
   XpbdState state = MakeXpbdState(model);
-  test::ScopedAllocationCount count;
+  hapsim::test::ScopedAllocationCount count;
   for (int k = 0; k < 10; ++k) StepXpbd(model, state, 1e-3);
   EXPECT_EQ(count.Count(), 0u);
 }

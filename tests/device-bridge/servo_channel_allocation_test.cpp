@@ -24,7 +24,7 @@ TEST_P(ServoChannelAllocation, ATickAllocatesNothing) {
   model.msg.normal[2] = 1.0;
   model.msg.stiffness_n_per_m = 500.0;
 
-  test::ScopedAllocationCount allocations;
+  hapsim::test::ScopedAllocationCount allocations;
   for (int tick = 0; tick < 200; ++tick) {
     channel.Sense(tick * 1e-3);
     model.msg.echo_pose_seq = channel.pose().seq;

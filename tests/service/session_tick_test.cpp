@@ -80,7 +80,7 @@ TEST_P(EveryScene, TheTickAllocatesNothingWhilePressingAndPublishingSnapshots) {
   for (int i = 0; i < 200; ++i) tick();  // warm-up: contact begins, topology arrays shared once
   std::uint64_t allocations = 0;
   {
-    test::ScopedAllocationCount counting;
+    hapsim::test::ScopedAllocationCount counting;
     for (int i = 0; i < 2000; ++i) tick();
     allocations = counting.Count();
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "hapsim/core/math/portable_math.h"
+
 namespace hapsim::service {
 
 double DistanceToSegment(double x, double y, const std::array<double, 4>& s) {
@@ -9,7 +11,7 @@ double DistanceToSegment(double x, double y, const std::array<double, 4>& s) {
   const double length2 = dx * dx + dy * dy;
   double t = length2 > 0.0 ? ((x - s[0]) * dx + (y - s[1]) * dy) / length2 : 0.0;
   t = std::clamp(t, 0.0, 1.0);
-  return std::hypot(x - (s[0] + t * dx), y - (s[1] + t * dy));
+  return core::pmath::Hypot(x - (s[0] + t * dx), y - (s[1] + t * dy));
 }
 
 void TrialTracker::OnTick(const TrialTick& tick) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hapsim/core/math/portable_math.h"
+
 namespace hapsim::core {
 
 const char* ToString(ContactState s) {
@@ -34,7 +36,7 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
       if (m.state == ContactState::kCutting) {
         const Eigen::Vector3d& t = m.drag_direction_W;
         const double v_t = v.dot(t);
-        f -= (coulomb_N * std::tanh(v_t / kDragSmoothingSpeed_m_per_s) + m.drag_damping_Ns_per_m * v_t) * t;
+        f -= (coulomb_N * pmath::Tanh(v_t / kDragSmoothingSpeed_m_per_s) + m.drag_damping_Ns_per_m * v_t) * t;
       }
       return f;
     }

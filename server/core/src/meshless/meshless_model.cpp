@@ -49,7 +49,8 @@ void CheckDef(const MeshlessDef& d) {
 double MeshlessKernel(double r_m, double h_m) {
   if (r_m >= h_m) return 0.0;
   const double q = h_m * h_m - r_m * r_m;
-  return 315.0 / (64.0 * std::numbers::pi * std::pow(h_m, 9)) * q * q * q;
+  const double h3 = h_m * h_m * h_m;  // h^9 as products: libm's pow differs per CPU
+  return 315.0 / (64.0 * std::numbers::pi * (h3 * h3 * h3)) * q * q * q;
 }
 
 double LameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }

@@ -1,5 +1,8 @@
 #include "hapsim/core/msm/spring_kernel.h"
 
+#include <atomic>
+
+#include "hapsim/core/assert.h"
 #include "msm_kernels.h"
 
 namespace hapsim::core {
@@ -27,8 +30,20 @@ bool SpringKernelSupported(SpringKernel kernel) {
   return false;
 }
 
+namespace {
+// -1: none forced; otherwise the forced SpringKernel's value.
+std::atomic<int> forced_kernel{-1};
+}  // namespace
+
 SpringKernel BestSpringKernel() {
+  const int forced = forced_kernel.load(std::memory_order_relaxed);
+  if (forced >= 0) return static_cast<SpringKernel>(forced);
   return SpringKernelSupported(SpringKernel::kAvx512) ? SpringKernel::kAvx512 : SpringKernel::kPortable;
+}
+
+void ForceSpringKernel(std::optional<SpringKernel> kernel) {
+  HAPSIM_DEMAND(!kernel || SpringKernelSupported(*kernel), "ForceSpringKernel: this CPU cannot run that kernel");
+  forced_kernel.store(kernel ? static_cast<int>(*kernel) : -1, std::memory_order_relaxed);
 }
 
 const char* SpringKernelName(SpringKernel kernel) {

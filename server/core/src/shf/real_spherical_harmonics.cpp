@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "hapsim/core/math/portable_math.h"
+
 namespace hapsim::core {
 
 RealShBasis::RealShBasis(int lmax) : lmax_(lmax) {
@@ -28,12 +30,12 @@ RealShBasis::RealShBasis(int lmax) : lmax_(lmax) {
 }
 
 void RealShBasis::Evaluate(double theta_rad, double phi_rad, Eigen::Ref<Eigen::VectorXd> out) const {
-  EvaluateTrig(std::cos(theta_rad), std::sin(theta_rad), std::cos(phi_rad), std::sin(phi_rad), out);
+  EvaluateTrig(pmath::Cos(theta_rad), pmath::Sin(theta_rad), pmath::Cos(phi_rad), pmath::Sin(phi_rad), out);
 }
 
 void RealShBasis::EvaluateDirection(const Eigen::Vector3d& u, Eigen::Ref<Eigen::VectorXd> out) const {
   const double r = u.norm();
-  const double rho = std::hypot(u.x(), u.y());
+  const double rho = pmath::Hypot(u.x(), u.y());
   // On the polar axis phi is arbitrary; every m > 0 term carries sin^m(theta) = 0.
   const double cp = rho > 0.0 ? u.x() / rho : 1.0;
   const double sp = rho > 0.0 ? u.y() / rho : 0.0;
@@ -45,7 +47,7 @@ void RealShBasis::EvaluateTrig(double ct, double st, double cp, double sp,
   const int n = lmax_ + 1;
   const double sqrt2 = std::numbers::sqrt2;
   double pmm = 0.5 / std::sqrt(std::numbers::pi);  // normalised P_0^0
-  double cos_m = 1.0, sin_m = 0.0;                 // cos(m phi), sin(m phi)
+  double cos_m = 1.0, sin_m = 0.0;                 // pmath::Cos(m phi), pmath::Sin(m phi)
   for (int m = 0; m <= lmax_; ++m) {
     if (m >= 1) {
       pmm *= diag_[static_cast<std::size_t>(m)] * st;
@@ -78,13 +80,13 @@ void RealShBasis::EvaluateTrig(double ct, double st, double cp, double sp,
 }
 
 void DirectionToAngles(const Eigen::Vector3d& u, double& theta_rad, double& phi_rad) {
-  theta_rad = std::atan2(std::hypot(u.x(), u.y()), u.z());
-  phi_rad = std::atan2(u.y(), u.x());
+  theta_rad = pmath::Atan2(pmath::Hypot(u.x(), u.y()), u.z());
+  phi_rad = pmath::Atan2(u.y(), u.x());
 }
 
 Eigen::Vector3d AnglesToDirection(double theta_rad, double phi_rad) {
-  return {std::sin(theta_rad) * std::cos(phi_rad), std::sin(theta_rad) * std::sin(phi_rad),
-          std::cos(theta_rad)};
+  return {pmath::Sin(theta_rad) * pmath::Cos(phi_rad), pmath::Sin(theta_rad) * pmath::Sin(phi_rad),
+          pmath::Cos(theta_rad)};
 }
 
 }  // namespace hapsim::core

@@ -1,11 +1,12 @@
 #include "hapsim/core/shf/sh_fit.h"
 
+#include <Eigen/SVD>
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
-#include <Eigen/SVD>
+#include "hapsim/core/math/portable_math.h"
 
 namespace hapsim::core {
 
@@ -73,7 +74,7 @@ Eigen::Matrix3Xd FibonacciDirections(int n) {
   for (int i = 0; i < n; ++i) {
     const double z = 1.0 - (2.0 * i + 1.0) / n;
     const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    u.col(i) << r * std::cos(golden * i), r * std::sin(golden * i), z;
+    u.col(i) << r * pmath::Cos(golden * i), r * pmath::Sin(golden * i), z;
   }
   return u;
 }

@@ -1,9 +1,9 @@
 // acupuncture scene display: layer patches displaced radially by their force
 // nets, and the needle mesh following the tool.
+#include <Eigen/Geometry>
 #include <cmath>
 
-#include <Eigen/Geometry>
-
+#include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
 
 namespace hapsim::core {
@@ -129,7 +129,7 @@ void AcupunctureScene::UpdateNeedleMesh(const Eigen::Vector3d& tip, const Eigen:
   vertices_m_.col(base) = tip;
   for (int k = 0; k < kNeedleSides; ++k) {
     const double ang = 2.0 * 3.14159265358979323846 * k / kNeedleSides;
-    const Eigen::Vector3d rim = params_.needle_radius_m * (std::cos(ang) * t1 + std::sin(ang) * t2);
+    const Eigen::Vector3d rim = params_.needle_radius_m * (pmath::Cos(ang) * t1 + pmath::Sin(ang) * t2);
     vertices_m_.col(base + 1 + k) = tip - kNeedleTaper_m * axis + rim;
     vertices_m_.col(base + 1 + kNeedleSides + k) = tip - params_.needle_length_m * axis + rim;
   }

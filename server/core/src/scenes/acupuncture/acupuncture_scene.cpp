@@ -168,13 +168,19 @@ void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::
     const int layer = punctured_;
     if (pressing_) {
       ForceNetState& s = net_states_[static_cast<std::size_t>(layer)];
-      const double z1_m = (s.n1_rest_W_m - tip).dot(s.normal_W);
-      if (z1_m < 0.0) {  // tip lifted off the surface
+      // One contact rule: contact with a layer begins and ends at its rest
+      // surface (depth 0), so no position between two surfaces toggles it.
+      if (depth_m_[layer] < 0.0) {  // tip lifted off the layer
         pressing_ = false;
         HideNet(layer);
         Log(SceneEventKind::kContactEnd, layer, tip);
         continue;
       }
+      // Above where the net was placed yet still below the rest surface: a
+      // surface that the layer above carried down follows the tip back up,
+      // unloaded, until it is home.
+      if ((s.n1_rest_W_m - tip).dot(s.normal_W) < 0.0)
+        PlaceForceNet(nets_[static_cast<std::size_t>(layer)], tip, s.normal_W, s);
       SolveForceNet(nets_[static_cast<std::size_t>(layer)], tip, s);
       net_moved_[static_cast<std::size_t>(layer)] = true;
       if (PunctureForceReached(nets_[static_cast<std::size_t>(layer)], s)) {

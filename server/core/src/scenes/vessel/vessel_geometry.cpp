@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "hapsim/core/math/portable_math.h"
+
 namespace hapsim::core {
 namespace {
 
@@ -40,11 +42,11 @@ void Sample(const std::vector<Segment>& segments, double s, Eigen::Vector2d* p, 
   for (const Segment& g : segments) {
     const double ds = std::min(s, g.length_m);
     if (g.turn_rad == 0.0 || g.length_m == 0.0) {
-      pos += ds * Eigen::Vector2d(std::cos(heading), std::sin(heading));
+      pos += ds * Eigen::Vector2d(pmath::Cos(heading), pmath::Sin(heading));
     } else {
       const double curvature = g.turn_rad / g.length_m;  // signed 1/R
       const double h1 = heading + curvature * ds;
-      pos += Eigen::Vector2d(std::sin(h1) - std::sin(heading), std::cos(heading) - std::cos(h1)) / curvature;
+      pos += Eigen::Vector2d(pmath::Sin(h1) - pmath::Sin(heading), pmath::Cos(heading) - pmath::Cos(h1)) / curvature;
       heading = h1;
       if (s <= g.length_m) break;
       s -= g.length_m;
@@ -54,7 +56,7 @@ void Sample(const std::vector<Segment>& segments, double s, Eigen::Vector2d* p, 
     s -= g.length_m;
   }
   *p = pos;
-  *t = Eigen::Vector2d(std::cos(heading), std::sin(heading));
+  *t = Eigen::Vector2d(pmath::Cos(heading), pmath::Sin(heading));
 }
 
 void Check(const VesselGeometryDef& d) {
@@ -127,7 +129,7 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
     const Eigen::Vector3d tangent(t[static_cast<std::size_t>(k)].x(), t[static_cast<std::size_t>(k)].y(), 0.0);
     const Eigen::Vector3d side = up.cross(tangent);
     const double phi = a * dphi;
-    return Eigen::Vector3d(g.centreline_m.col(k) + r * (std::cos(phi) * up + std::sin(phi) * side));
+    return Eigen::Vector3d(g.centreline_m.col(k) + r * (pmath::Cos(phi) * up + pmath::Sin(phi) * side));
   };
 
   const auto n = static_cast<Eigen::Index>(nodes);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "hapsim/core/cutting/cylinder_collision.h"
+#include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/scenes/scene_builders.h"
 
 namespace hapsim::core {
@@ -92,8 +93,8 @@ VesselScene::VesselScene(const VesselParams& params)
   const double omega = kind_ == VesselModel::kMassSpring ? MaxSpringOmega_rad_per_s(model_, springs_)
                                                          : MaxMeshlessOmega_rad_per_s(model_);
   const double real_critical_s = 2.0 / omega;
-  mass_scale_ = params_.mass_scale > 0.0 ? params_.mass_scale
-                                         : std::max(1.0, std::pow(2.0 * h_s / real_critical_s, 2));
+  mass_scale_ =
+      params_.mass_scale > 0.0 ? params_.mass_scale : std::max(1.0, pmath::Pow(2.0 * h_s / real_critical_s, 2));
   model_.mass_kg *= mass_scale_;
   model_.inv_mass_per_kg /= mass_scale_;
   const double critical_s = real_critical_s * std::sqrt(mass_scale_);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/msm/particle_steppers.h"
 
 namespace hapsim::core::paper {
@@ -16,7 +17,7 @@ struct LinearOde {
   static constexpr double kH = 0.05;
   static constexpr double kXEnd = 1.0;
   static double F(double x, double y) { return -y + 2.0 * x + 3.0; }
-  static double Exact(double x) { return 2.0 * x + 1.0 + (kY0 - 1.0) * std::exp(-x); }
+  static double Exact(double x) { return 2.0 * x + 1.0 + (kY0 - 1.0) * pmath::Exp(-x); }
 };
 
 // The damped particle: the paper gives no numbers, so: m = 2 kg (not 1, so a
@@ -36,7 +37,7 @@ struct DampedParticle {
     const double g = p.c_Ns_per_m / (2.0 * p.m_kg);
     const double wd = std::sqrt(p.k_N_per_m / p.m_kg - g * g);
     const double a = x0, b = (v0 + g * x0) / wd;
-    const double e = std::exp(-g * t_s), cs = std::cos(wd * t_s), sn = std::sin(wd * t_s);
+    const double e = pmath::Exp(-g * t_s), cs = pmath::Cos(wd * t_s), sn = pmath::Sin(wd * t_s);
     return {e * (a * cs + b * sn), e * ((wd * b - g * a) * cs - (g * b + wd * a) * sn)};
   }
 };

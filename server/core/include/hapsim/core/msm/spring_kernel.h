@@ -5,6 +5,8 @@
 // benchmark may pick one explicitly (MsmWorkspace::spring_kernel).
 #pragma once
 
+#include <optional>
+
 namespace hapsim::core {
 
 // Doubles per node in the spring-force accumulator (MsmWorkspace::f): x, y, z
@@ -16,8 +18,13 @@ enum class SpringKernel {
   kAvx512,    // x86-64 with AVX-512F/VL: four springs per 256-bit register
 };
 
-// The fastest kernel this CPU runs.
+// The fastest kernel this CPU runs, or the one ForceSpringKernel chose.
 SpringKernel BestSpringKernel();
+// Makes BestSpringKernel() return `kernel` (which must be supported) for
+// every workspace made from now on, in the whole process; std::nullopt goes
+// back to the fastest. For tests and tools that check that another kernel
+// gives the same states; the step itself never needs it.
+void ForceSpringKernel(std::optional<SpringKernel> kernel);
 // Whether this CPU (and this build) can run `kernel`.
 bool SpringKernelSupported(SpringKernel kernel);
 // "portable" or "avx512".
