@@ -110,6 +110,54 @@ std::vector<SweepRow> SpeedSweep(const std::filesystem::path& out) {
   return rows;
 }
 
+// The scene's default shaft law (stick-slip Coulomb friction plus a tenth of
+// Table 1's damping; docs/validation.md#shaft-friction): straight down from
+// 2 mm above the skin to 30 mm at 10 mm/s, held 0.3 s, out to 20 mm, back in
+// to 25 mm. One row per tick (check_puncture.py simulates the law on its
+// own from these poses); returns the shaft force [N] as the tip reaches
+// 30 mm.
+double DefaultShaftLaw(const std::filesystem::path& out) {
+  AcupunctureScene scene{core::AcupunctureParams{}};
+  std::ofstream csv(out / "shaft_friction_default.csv");
+  csv << "t_s,tip_z_m,v_z_m_per_s,punctured,pressing,force_z_N\n";
+  constexpr double kV_m_per_s = 10e-3;
+  struct Leg {
+    double to_z_m, v_m_per_s;
+    int hold_ticks;
+  };
+  const Leg legs[] = {{-30e-3, kV_m_per_s, 0}, {-30e-3, 0.0, 300}, {-20e-3, kV_m_per_s, 0}, {-25e-3, kV_m_per_s, 0}};
+  double z = kStart_m, t = 0.0, force_at_30_N = 0.0;
+  auto tick = [&](double tip_z_m, double v_z_m_per_s) {
+    core::ToolInput tool;
+    tool.valid = true;
+    tool.tip_W_m = Eigen::Vector3d(0, 0, tip_z_m);
+    tool.velocity_W_m_per_s = Eigen::Vector3d(0, 0, v_z_m_per_s);
+    scene.Step(tool, kDt_s);
+    t += kDt_s;
+    const int punctured = scene.PuncturedLayers();
+    const bool pressing = scene.Status().current_layer == punctured;
+    char line[200];
+    std::snprintf(line, sizeof line, "%.3f,%.17g,%.17g,%d,%d,%.17g\n", t, tip_z_m, v_z_m_per_s, punctured, pressing ? 1 : 0,
+                  scene.ToolForce_W_N().z());
+    csv << line;
+  };
+  for (const Leg& leg : legs) {
+    if (leg.v_m_per_s == 0.0) {
+      for (int k = 0; k < leg.hold_ticks; ++k) tick(z, 0.0);
+      continue;
+    }
+    const double dir = leg.to_z_m > z ? 1.0 : -1.0;
+    const int n = static_cast<int>(std::lround(std::abs(leg.to_z_m - z) / (leg.v_m_per_s * kDt_s)));
+    const double from = z;
+    for (int k = 1; k <= n; ++k) {
+      z = from + (leg.to_z_m - from) * k / n;
+      tick(z, dir * leg.v_m_per_s);
+    }
+    if (leg.to_z_m == -30e-3) force_at_30_N = std::abs(scene.ToolForce_W_N().z());
+  }
+  return force_at_30_N;
+}
+
 int Run(const std::filesystem::path& out) {
   // The paper's model: Table 1's viscous shaft damping alone (law 0); the
   // scene's default stick-slip friction is an extension (checked by tests).
@@ -272,6 +320,13 @@ int Run(const std::filesystem::path& out) {
       }
     }
   }
+  // Shaft friction of the order the mission sets (1e-2 N per mm inserted),
+  // so it is felt between punctures: 0.005-0.05 N/mm at 30 mm, 10 mm/s.
+  const double shaft_30_N = DefaultShaftLaw(out);
+  const double shaft_per_mm = shaft_30_N / 30.0;
+  checks.push_back({"default shaft friction at 30 mm, 10 mm/s is of order 1e-2 N per mm (0.005-0.05)",
+                    shaft_per_mm >= 0.005 && shaft_per_mm <= 0.05,
+                    std::to_string(shaft_30_N) + " N = " + std::to_string(shaft_per_mm) + " N/mm"});
   const std::vector<SweepRow> sweep = SpeedSweep(out);
   bool skin_ok = true, clamp_ok = true, fat_ok = false;
   double skin_lo = 1e9, skin_hi = 0.0, worst_peak = 0.0;

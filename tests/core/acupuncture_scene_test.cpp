@@ -224,7 +224,8 @@ TEST_F(AcupunctureSceneTest, ShaftFrictionHoldsTheNeedleAtRestAndStaysBoundedAtS
     worst_N = std::max(worst_N, scene_.ToolForce_W_N().norm());
     worst_paper_N = std::max(worst_paper_N, paper_.ToolForce_W_N().norm());
   }
-  EXPECT_LT(worst_N, 1.0);
+  // Below the bridge's 2.5 N force clamp, where Table 1 alone passes 5 N.
+  EXPECT_LT(worst_N, 2.5);
   EXPECT_GT(worst_paper_N, 5.0);
 }
 

@@ -104,8 +104,7 @@ TEST(ForceNet, ReactionOnTipEqualsSpringAndAnchorForcesOnN1) {
 
 // Like skin: the force stiffens with depth (J-shaped), and the skin gives
 // way after millimetres of indentation (issue 11: 2-6 mm), the fat after a
-// contact long enough to feel (>= 20 ticks at 10 mm/s = 0.2 mm), and no
-// layer's puncture force is above the bridge's 2.5 N clamp.
+// contact long enough to feel (>= 20 ticks at 10 mm/s = 0.2 mm).
 TEST(ForceNet, ForceStiffensWithDepthAndTheSkinIndentsMillimetresBeforePuncture) {
   const auto layers = PaperTissueLayers();
   for (const auto& layer : layers) {
@@ -114,7 +113,6 @@ TEST(ForceNet, ForceStiffensWithDepthAndTheSkinIndentsMillimetresBeforePuncture)
       ASSERT_GT(m.force_N[k], m.force_N[k - 1]) << layer.name;
       ASSERT_GT(m.force_N[k] - m.force_N[k - 1], m.force_N[k - 1] - m.force_N[k - 2]) << layer.name << " not stiffening";
     }
-    EXPECT_LT(m.def.puncture_force_N, 2.5) << layer.name;
     EXPECT_NEAR(NetForceAtDepth_N(m, m.puncture_depth_m), m.def.puncture_force_N, 1e-12);
   }
   const ForceNetModel skin = BuildForceNet(ForceNetDefFor(layers[0]));
@@ -155,8 +153,6 @@ TEST(ShaftDamping, AccumulatesLayerByLayerAsTableOne) {
   const double depth[3] = {5.8e-3, 5.0e-3, -4.2e-3};
   EXPECT_NEAR(ShaftDamping_Ns_per_m(layers, depth, 2), 3000 * 0.8e-3 + 1000 * 5e-3, 1e-12);
   EXPECT_NEAR(ShaftDamping_Ns_per_m(layers, depth, 1), 3000 * 0.8e-3, 1e-12);  // fat not yet pierced
-  // Shaft friction at 5 mm/s is of order 1e-2 N per mm inserted (skin).
-  EXPECT_NEAR(layers[0].damping_Ns_per_m2 * 5e-3 * 1e-3, 0.015, 1e-12);
 }
 
 }  // namespace

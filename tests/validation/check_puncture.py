@@ -134,6 +134,45 @@ def main(out):
         worst = max(worst, abs(f + b * v))
     check(worst < 1e-5, f"withdrawal force = -(sum d_i h_i) v at every tick (worst {worst:.1e} N)")
 
+    # The scene's default shaft law, simulated here from the poses alone with
+    # the documented defaults (docs/validation.md#shaft-friction): Coulomb
+    # skin 10, fat 5, muscle 15 N per m inserted; a tenth of Table 1's
+    # damping; stick spring 300 N/m. The shaft sticks where the skin gave way;
+    # the friction is that spring clamped to the Coulomb level, and the
+    # stick point slides by the excess. Compared where no surface is being
+    # pressed (there the net's reaction adds).
+    coulomb_per_m, d_per_m2, visc_scale, k_stick = [10.0, 5.0, 15.0], [3000.0, 1000.0, 3000.0], 0.1, 300.0
+    thickness_m = [1e-3 * h for (_, h, *_) in LAYERS]
+    stick = None
+    worst, compared, at30 = 0.0, 0, None
+    for r in csv.DictReader(open(f"{out}/shaft_friction_default.csv")):
+        z, v, punctured = float(r["tip_z_m"]), float(r["v_z_m_per_s"]), int(r["punctured"])
+        if punctured == 0:
+            stick = None
+            continue
+        if stick is None:
+            stick = z  # the tick the skin gave way
+        coulomb = damping = 0.0
+        top = 0.0
+        for i in range(punctured):
+            inside = min(max(-z - top, 0.0), thickness_m[i])
+            coulomb += coulomb_per_m[i] * inside
+            damping += visc_scale * d_per_m2[i] * inside
+            top += thickness_m[i]
+        e = -(z - stick)  # along the axis, which points down
+        held = min(max(e, -coulomb / k_stick), coulomb / k_stick)
+        stick -= e - held
+        expected = k_stick * held - damping * v
+        if r["pressing"] == "0":
+            worst = max(worst, abs(float(r["force_z_N"]) - expected))
+            compared += 1
+        if at30 is None and abs(z + 30e-3) < 1e-12:
+            at30 = float(r["force_z_N"])
+    check(compared > 1000 and worst < 1e-9,
+          f"default stick-slip shaft law matches an independent simulation at {compared} ticks (worst {worst:.1e} N)")
+    check(at30 is not None and 0.005 <= at30 / 30.0 <= 0.05,
+          f"default shaft friction at 30 mm, 10 mm/s: {at30:.3f} N = {at30 / 30.0:.4f} N/mm (order 1e-2 N/mm)")
+
     sb = list(csv.DictReader(open(f"{out}/springback.csv")))
     offsets = [float(r["offset_mm"]) for r in sb]
     check(len(offsets) > 10 and offsets[-1] > 0.0, f"skin springs back above the tip reference line ({offsets[-1]:.4f} mm)")

@@ -7,9 +7,9 @@ namespace hapsim::core {
 std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers() {
   constexpr double kMm = 1e-3, kNPerMm = 1e3, kPerMm = 1e3;
   return {{
-      {"skin", 0.8 * kMm, 0.16 * kNPerMm, 3.0 * kPerMm, 8, 2.0 * kMm, 1.0, 1.0},
-      {"fat", 8.4 * kMm, 0.08 * kNPerMm, 1.0 * kPerMm, 4, 1.0 * kMm, 0.5, 0.2},
-      {"muscle", 39.0 * kMm, 0.23 * kNPerMm, 3.0 * kPerMm, 10, 2.5 * kMm, 1.5, 1.5},
+      {"skin", 0.8 * kMm, 0.16 * kNPerMm, 3.0 * kPerMm, 8, 2.0 * kMm, 10.0, 1.0},
+      {"fat", 8.4 * kMm, 0.08 * kNPerMm, 1.0 * kPerMm, 4, 1.0 * kMm, 5.0, 0.2},
+      {"muscle", 39.0 * kMm, 0.23 * kNPerMm, 3.0 * kPerMm, 10, 2.5 * kMm, 15.0, 1.5},
   }};
 }
 

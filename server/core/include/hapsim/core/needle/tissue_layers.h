@@ -36,8 +36,10 @@ inline constexpr double kReferenceNeedleDiameter_m = 3e-4;
 
 // Table 2: skin 0.8 mm / 0.16 N/mm / d 3 / w 8 / L 2 mm; fat 8.4 / 0.08 / 1 /
 // 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5. Shaft Coulomb friction (not in the
-// paper; our estimate, docs/validation.md#shaft-friction): skin 1, fat 0.5,
-// muscle 1.5 N per metre inserted. Puncture forces (not in the paper's
+// paper; docs/validation.md#shaft-friction): skin 10, fat 5, muscle 15 N per
+// metre inserted — of order 1e-2 N per mm, the order the mission sets for
+// shaft friction (0.36 N at 30 mm, above a Phantom Omni's ~0.26 N
+// backdrive friction, so it is felt). Puncture forces (not in the paper's
 // tables): skin 1.0 N, fat 0.2 N, muscle (fascia) 1.5 N.
 std::array<TissueLayer, kNumTissueLayers> PaperTissueLayers();
 
