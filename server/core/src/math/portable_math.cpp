@@ -216,17 +216,23 @@ void SinCos(double x_rad, double& sin_out, double& cos_out) {
   }
 }
 
-double Sin(double x_rad) {
-  double s, c;
-  SinCos(x_rad, s, c);
-  return s;
+namespace {
+
+// sin (want_sin) or cos of x, with only the kernel that quadrant needs.
+double SinOrCos(double x_rad, bool want_sin) {
+  if (std::isnan(x_rad) || std::isinf(x_rad)) return kNaN;
+  if (std::fabs(x_rad) < 0x1p-27) return want_sin ? x_rad : 1.0;
+  const ReducedAngle r = ReduceByHalfPi(x_rad);
+  const int q = want_sin ? r.quadrant : r.quadrant + 1;  // cos x = sin(x + pi/2)
+  const double v = (q & 1) ? KernelCos(r.hi, r.lo) : KernelSin(r.hi, r.lo);
+  return (q & 2) ? -v : v;
 }
 
-double Cos(double x_rad) {
-  double s, c;
-  SinCos(x_rad, s, c);
-  return c;
-}
+}  // namespace
+
+double Sin(double x_rad) { return SinOrCos(x_rad, true); }
+
+double Cos(double x_rad) { return SinOrCos(x_rad, false); }
 
 double Atan(double x) {
   if (std::isnan(x)) return x;

@@ -30,7 +30,10 @@ RealShBasis::RealShBasis(int lmax) : lmax_(lmax) {
 }
 
 void RealShBasis::Evaluate(double theta_rad, double phi_rad, Eigen::Ref<Eigen::VectorXd> out) const {
-  EvaluateTrig(pmath::Cos(theta_rad), pmath::Sin(theta_rad), pmath::Cos(phi_rad), pmath::Sin(phi_rad), out);
+  double st = 0, ct = 0, sp = 0, cp = 0;
+  pmath::SinCos(theta_rad, st, ct);
+  pmath::SinCos(phi_rad, sp, cp);
+  EvaluateTrig(ct, st, cp, sp, out);
 }
 
 void RealShBasis::EvaluateDirection(const Eigen::Vector3d& u, Eigen::Ref<Eigen::VectorXd> out) const {
