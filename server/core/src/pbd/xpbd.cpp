@@ -63,7 +63,7 @@ XpbdState MakeXpbdState(const XpbdModel& model) {
   return s;
 }
 
-void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
+void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s, XpbdExtraConstraints* extra) {
   const double decay = std::max(0.0, 1.0 - model.damping_per_s * h_s);
   s.x_start_m = s.x_m;
   for (std::int32_t i = 0; i < model.n; ++i) {
@@ -73,6 +73,7 @@ void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
     s.x_m.col(i) += h_s * s.v_m_per_s.col(i);
   }
   s.lambda.setZero();
+  if (extra) extra->BeginStep();
   const bool plain = model.plain_pbd_stiffness > 0.0;
   for (int it = 0; it < model.iterations; ++it) {
     for (std::size_t c = 0; c < model.distance.size(); ++c) {
@@ -87,6 +88,7 @@ void StepXpbd(const XpbdModel& model, XpbdState& s, double h_s) {
                           &s.lambda[static_cast<Eigen::Index>(c)], false, &move_j);
       s.x_m.col(d.j) += move_j;
     }
+    if (extra) extra->Project(s.x_m, model.inv_mass_per_kg, h_s);
   }
   s.v_m_per_s = (s.x_m - s.x_start_m) / h_s;
   s.time_s += h_s;

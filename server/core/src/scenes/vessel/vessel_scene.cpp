@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
@@ -14,17 +16,25 @@ namespace {
 
 // A tool farther than this from the origin is a bad reading, not a pose.
 constexpr double kToolRange_m = 1.0;
-// Tip travel below this between ticks gives no tangent-stiffness sample
-// (force noise over a tiny travel would swing the estimate).
-constexpr double kMinTravelForStiffness_m = 1e-6;
-// Weight of a new tangent-stiffness sample in the running estimate.
-constexpr double kStiffnessSmoothing = 0.2;
 constexpr double kMinRenderStiffness_N_per_m = 10.0;
 // At a light touch the probe's contact comes and goes between ticks (the
-// wall is pushed just clear, then springs back). Contact ends only after
-// this many ticks without force; meanwhile the device keeps the last contact
+// wall is pushed just clear, then springs back up to ~11 ticks later on the
+// vein with a +-3 um tremor). Contact ends only after this many ticks
+// without force; meanwhile the device keeps the last contact
 // plane (fixed in space), so it renders the surface, not a buzz.
-constexpr int kContactEndTicks = 10;
+constexpr int kContactEndTicks = 30;
+// The settled curve: samples per curve, and how a sample settles (the
+// force changes by less than this fraction over a window of ticks).
+constexpr int kCurveSamples = 25;
+constexpr double kSettledFraction = 2e-3;
+constexpr int kSettleWindowTicks = 20, kMaxSettleTicks = 400;
+// Ticks to press from one of the curve's depths to the next: a slow press
+// (5 mm/s on the vein; friction makes the curve depend on the path: 1 and
+// 5 mm/s give the same curve within 1 %, 20 mm/s 8 % stiffer at 1.6 mm).
+constexpr int kCurvePressTicks = 20;
+// Damping while measuring the curve [1/s]: settles in fewer ticks; 50 and
+// 200 give the same curve within 2 %.
+constexpr double kCurveDamping_per_s = 50.0;
 
 // Largest angular frequency of a node under the meshless forces, from the
 // diagonal stiffness block (each node's own gradient term and the terms of
@@ -80,10 +90,10 @@ VesselScene::VesselScene(const VesselParams& params)
   model_ = BuildMeshlessModel(m);
 
   kind_ = static_cast<VesselModel>(params_.model);
-  BuildLattice(spacing_m);
-  // Independent constraints side by side: the sweeps overlap their work.
-  OrderByColour(stretch_, model_.n);
-  OrderByColour(springs_, model_.n);
+  outer_radius_m_ = def.lumen_radius_m + def.wall_thickness_m;
+  std::vector<DistanceConstraint> stretch;
+  BuildLattice(spacing_m, stretch);
+  BuildFoundation(def);
 
   // Mass scaling: the critical step grows with the square root of the mass.
   // Plain PBD has no explicit forces, but its contact force is the
@@ -106,9 +116,24 @@ VesselScene::VesselScene(const VesselParams& params)
     throw std::invalid_argument(msg.str());
   }
 
-  tet_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tets_.size()));
-  stretch_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(stretch_.size()));
+  // The step is StepXpbd's: the wall's nodes with the scaled masses, and
+  // the distance constraints of the model (the paper's stretching
+  // constraints, or the plain-PBD baseline's springs). Independent
+  // constraints side by side: the sweeps overlap their work.
+  XpbdDef wall;
+  wall.x0_m = geometry_.nodes_m;
+  wall.mass_kg.assign(model_.mass_kg.data(), model_.mass_kg.data() + model_.n);
+  wall.fixed = geometry_.anchored;
+  wall.iterations = params_.xpbd_iterations;
+  wall.damping_per_s = params_.damping_per_s;
+  if (kind_ == VesselModel::kMeshlessXpbd) wall.distance = std::move(stretch);
+  if (kind_ == VesselModel::kPlainPbd) wall.distance = springs_, wall.plain_pbd_stiffness = params_.pbd_stiffness;
+  OrderByColour(wall.distance, model_.n);
+  wall_model_ = BuildXpbdModel(wall);
+  wall_ = MakeXpbdState(wall_model_);
 
+  tet_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tets_.size()));
+  tether_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tether_node_.size()));
   Eigen::AlignedBox3d box(geometry_.nodes_m.rowwise().minCoeff(), geometry_.nodes_m.rowwise().maxCoeff());
   rest_grid_ = UniformGrid(box, std::max(spacing_m, params_.probe_radius_m), static_cast<std::size_t>(model_.n));
   rest_grid_.Build(geometry_.nodes_m);
@@ -117,10 +142,6 @@ VesselScene::VesselScene(const VesselParams& params)
 
   bed_z_m_ = geometry_.nodes_m.row(2).minCoeff();
   surface_map_ = BuildMlsSurfaceMap(geometry_.nodes_m, geometry_.surface_m, m.support_radius_m);
-  x_m_ = geometry_.nodes_m;
-  v_m_per_s_ = Eigen::Matrix3Xd::Zero(3, model_.n);
-  x_start_m_ = x_m_;
-  elastic_N_ = Eigen::Matrix3Xd::Zero(3, model_.n);
   F_.assign(static_cast<std::size_t>(model_.n), Eigen::Matrix3d::Identity());
   surface_m_ = geometry_.surface_m;
 
@@ -135,9 +156,15 @@ VesselScene::VesselScene(const VesselParams& params)
   }
   topology_.Seal();
   status_.layer_names = {"vessel_wall"};
+
+  MeasureSettledCurve();  // ~0.4 s for the vein
+  Reset();
+  events_ = EventLog();  // the build's own press and reset are not the session's
+  status_.numerical_resets = 0;
+  reset_epoch_ = ResetEpoch::Now(*this);
 }
 
-void VesselScene::BuildLattice(double spacing_m) {
+void VesselScene::BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch) {
   // Lattice edges (axial, around, across) and, for the baselines, the
   // diagonals of every lattice face (shear).
   const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
@@ -150,7 +177,7 @@ void VesselScene::BuildLattice(double spacing_m) {
     }
   };
   auto edge = [&](std::int32_t i, std::int32_t j) {  // stretching constraint, or a baseline spring
-    if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch_.push_back({i, j, rest(i, j), 1.0 / k_stretch});
+    if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch.push_back({i, j, rest(i, j), 1.0 / k_stretch});
     diagonal(i, j);
   };
   // Six tetrahedra per lattice cell around its main diagonal (Kuhn), corner
@@ -179,88 +206,131 @@ void VesselScene::BuildLattice(double spacing_m) {
       }
 }
 
-bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
+void VesselScene::BuildFoundation(const VesselGeometryDef& def) {
+  if (params_.tissue_modulus_Pa <= 0.0) return;
+  // Node (k, outer layer, a) carries the outer surface between its
+  // neighbours: (2 pi r_out / ring) around x (its station's share of the
+  // centreline) along.
+  const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
+  const double depth_m = params_.tissue_depth_m > 0.0 ? params_.tissue_depth_m : outer_radius_m_;
+  const double around_m = 2.0 * std::numbers::pi * (def.lumen_radius_m + def.wall_thickness_m) / R;
+  for (int k = 0; k < S; ++k) {
+    const auto c = [&](int j) { return geometry_.centreline_m.col(std::clamp(j, 0, S - 1)); };
+    const double along_m = 0.5 * ((c(k + 1) - c(k)).norm() + (c(k) - c(k - 1)).norm());
+    const double k_N_per_m = params_.tissue_modulus_Pa * around_m * along_m / depth_m;
+    for (int a = 0; a < R; ++a) {
+      const auto i = static_cast<std::int32_t>((k * L + (L - 1)) * R + a);
+      if (geometry_.anchored[static_cast<std::size_t>(i)]) continue;
+      tether_node_.push_back(i);
+      tether_compliance_m_per_N_.push_back(1.0 / k_N_per_m);
+    }
+  }
+}
+
+double VesselScene::DepthIntoRestWall_m(const Eigen::Vector3d& tip_W_m) const {
+  // Distance from the tip to the centreline polyline, nearest segment.
+  const Eigen::Matrix3Xd& c = geometry_.centreline_m;
+  double nearest_m = std::numeric_limits<double>::infinity();
+  for (Eigen::Index k = 0; k + 1 < c.cols(); ++k) {
+    const Eigen::Vector3d d = c.col(k + 1) - c.col(k);
+    const double t = std::clamp((tip_W_m - c.col(k)).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    nearest_m = std::min(nearest_m, (tip_W_m - c.col(k) - t * d).norm());
+  }
+  return outer_radius_m_ + params_.probe_radius_m - nearest_m;
+}
+
+void VesselScene::VesselConstraints::BeginStep() {
+  VesselScene& v = scene_;
+  v.tet_lambda_.setZero();
+  v.tether_lambda_.setZero();
+  for (const std::uint32_t i : v.candidates_) v.contact_lambda_[i] = 0.0;
+}
+
+void VesselScene::VesselConstraints::Project(Eigen::Matrix3Xd& x_m, const Eigen::VectorXd& inv_mass_per_kg,
+                                             double h_s) {
+  VesselScene& v = scene_;
+  const double inv_h2 = 1.0 / (h_s * h_s);
+  for (std::size_t t = 0; t < v.tets_.size(); ++t) {
+    ProjectTetEnergyXpbd(x_m, v.tets_[t], inv_mass_per_kg, h_s, &v.tet_lambda_[static_cast<Eigen::Index>(t)]);
+  }
+  // The foundation: each outer node held at its rest position by a spring.
+  for (std::size_t t = 0; t < v.tether_node_.size(); ++t) {
+    const std::int32_t i = v.tether_node_[t];
+    ProjectDistanceXpbd(x_m, i, v.geometry_.nodes_m.col(i), inv_mass_per_kg[i], 0.0, 0.0,
+                        v.tether_compliance_m_per_N_[t] * inv_h2, &v.tether_lambda_[static_cast<Eigen::Index>(t)],
+                        false, nullptr);
+  }
+  // The tip: each node pushed out of the probe sphere, then held against
+  // sliding on it by Coulomb friction — the node's slip relative to the tip
+  // over this step is undone up to mu times the normal correction (static
+  // within it, kinetic past it).
+  const double contact_alpha_tilde = inv_h2 / v.params_.contact_stiffness_N_per_m;
+  const Eigen::Vector3d tip_moved_m = v.tip_W_m_ - v.tip_at_step_start_W_m_;
+  for (const std::uint32_t i : v.candidates_) {
+    double& lambda = v.contact_lambda_[i];
+    ProjectDistanceXpbd(x_m, static_cast<std::int32_t>(i), v.tip_W_m_, inv_mass_per_kg[i], 0.0,
+                        v.params_.probe_radius_m, contact_alpha_tilde, &lambda, true, nullptr);
+    if (lambda <= 0.0 || v.params_.contact_friction <= 0.0) continue;
+    const Eigen::Vector3d out = x_m.col(i) - v.tip_W_m_;
+    const double length = out.norm();
+    if (length < 1e-15) continue;
+    const Eigen::Vector3d n = out / length;
+    const Eigen::Vector3d slip = (x_m.col(i) - v.wall_.x_start_m.col(i)) - tip_moved_m;
+    const Eigen::Vector3d slip_t = slip - slip.dot(n) * n;
+    const double slip_m = slip_t.norm();
+    const double limit_m = v.params_.contact_friction * inv_mass_per_kg[i] * lambda;  // mu x the normal correction
+    if (slip_m > 0.0) x_m.col(i) -= std::min(1.0, limit_m / slip_m) * slip_t;
+  }
+  // The bed: a rigid, frictionless plane under the vessel.
+  for (Eigen::Index i = 0; i < x_m.cols(); ++i) x_m(2, i) = std::max(x_m(2, i), v.bed_z_m_);
+}
+
+bool VesselScene::Advance(bool tool_ok, double h_s) {
   // Contact candidates: nodes whose rest position is within the probe radius
   // plus the largest displacement of any node (so none currently inside is missed).
   candidates_.clear();
   if (tool_ok) {
-    const double reach_m = params_.probe_radius_m + MaxDisplacement_m(x_m_, geometry_.nodes_m, {}, model_.n);
-    rest_grid_.ForEachWithin(geometry_.nodes_m, tool.tip_W_m, reach_m, [&](std::uint32_t i) {
+    const double reach_m = params_.probe_radius_m + MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
+    rest_grid_.ForEachWithin(geometry_.nodes_m, tip_W_m_, reach_m, [&](std::uint32_t i) {
       if (!model_.fixed[i]) candidates_.push_back(i);
     });
   }
-  for (const std::uint32_t i : candidates_) contact_lambda_[i] = 0.0;
-
   // 1. Elastic forces (meshless, or the mass-spring baseline's springs; plain
-  // PBD has none), explicit prediction.
+  // PBD has none) as the step's external forces.
   if (kind_ == VesselModel::kMeshlessXpbd) {
-    strain_energy_J_ = ComputeMeshlessForces(model_, x_m_, F_, elastic_N_);
+    strain_energy_J_ = ComputeMeshlessForces(model_, wall_.x_m, F_, wall_.f_ext_N);
   } else {
-    elastic_N_.setZero();
+    wall_.f_ext_N.setZero();
     strain_energy_J_ = 0.0;
     if (kind_ == VesselModel::kMassSpring) {
       for (const DistanceConstraint& s : springs_) {
-        const Eigen::Vector3d d = x_m_.col(s.j) - x_m_.col(s.i);
+        const Eigen::Vector3d d = wall_.x_m.col(s.j) - wall_.x_m.col(s.i);
         const double length = d.norm();
         if (length < 1e-15) continue;
         const double stretch = length - s.rest_m;
         const Eigen::Vector3d f = (stretch / s.compliance_m_per_N / length) * d;
-        elastic_N_.col(s.i) += f;
-        elastic_N_.col(s.j) -= f;
+        wall_.f_ext_N.col(s.i) += f;
+        wall_.f_ext_N.col(s.j) -= f;
         strain_energy_J_ += 0.5 * stretch * stretch / s.compliance_m_per_N;
       }
     }
   }
-  x_start_m_ = x_m_;
-  const double decay = std::max(0.0, 1.0 - params_.damping_per_s * h_s);
-  for (std::int32_t i = 0; i < model_.n; ++i) {
-    if (model_.fixed[static_cast<std::size_t>(i)]) continue;
-    v_m_per_s_.col(i) = decay * v_m_per_s_.col(i) + h_s * model_.inv_mass_per_kg[i] * elastic_N_.col(i);
-    x_m_.col(i) += h_s * v_m_per_s_.col(i);
-  }
-  // 2. Constraint sweeps: stretching, then the tip's contact.
-  stretch_lambda_.setZero();
-  tet_lambda_.setZero();
+  // 2-3. Prediction, the sweeps (the model's constraints, then this scene's), velocities.
+  VesselConstraints extra(*this);
+  StepXpbd(wall_model_, wall_, h_s, &extra);
+
+  // The contact force on the tool; the blow-up guard.
   const double inv_h2 = 1.0 / (h_s * h_s);
-  const double contact_alpha_tilde = inv_h2 / params_.contact_stiffness_N_per_m;
-  for (int it = 0; it < params_.xpbd_iterations; ++it) {
-    for (std::size_t c = 0; c < stretch_.size(); ++c) {
-      const DistanceConstraint& d = stretch_[c];
-      Eigen::Vector3d move_j = Eigen::Vector3d::Zero();
-      ProjectDistanceXpbd(x_m_, d.i, x_m_.col(d.j), model_.inv_mass_per_kg[d.i], model_.inv_mass_per_kg[d.j],
-                          d.rest_m, d.compliance_m_per_N * inv_h2, &stretch_lambda_[static_cast<Eigen::Index>(c)],
-                          false, &move_j);
-      x_m_.col(d.j) += move_j;
-    }
-    for (std::size_t t = 0; t < tets_.size(); ++t) {
-      ProjectTetEnergyXpbd(x_m_, tets_[t], model_.inv_mass_per_kg, h_s, &tet_lambda_[static_cast<Eigen::Index>(t)]);
-    }
-    if (kind_ == VesselModel::kPlainPbd) {  // the paper's projection, scaled by k, no multiplier
-      for (const DistanceConstraint& s : springs_) {
-        ProjectDistancePlainPbd(x_m_, s.i, s.j, model_.inv_mass_per_kg[s.i], model_.inv_mass_per_kg[s.j], s.rest_m,
-                                params_.pbd_stiffness);
-      }
-    }
-    for (const std::uint32_t i : candidates_) {
-      ProjectDistanceXpbd(x_m_, static_cast<std::int32_t>(i), tool.tip_W_m, model_.inv_mass_per_kg[i], 0.0,
-                          params_.probe_radius_m, contact_alpha_tilde, &contact_lambda_[i], true, nullptr);
-    }
-    // The bed: a rigid, frictionless plane under the vessel (the tissue it lies on).
-    for (std::int32_t i = 0; i < model_.n; ++i) x_m_(2, i) = std::max(x_m_(2, i), bed_z_m_);
-  }
-  // 3. Velocities; the contact force on the tool; the blow-up guard.
-  double kinetic_J = 0.0;
-  for (std::int32_t i = 0; i < model_.n; ++i) {
-    v_m_per_s_.col(i) = (x_m_.col(i) - x_start_m_.col(i)) / h_s;
-    kinetic_J += 0.5 * model_.mass_kg[i] * v_m_per_s_.col(i).squaredNorm();
-  }
   tool_force_W_N_.setZero();
   for (const std::uint32_t i : candidates_) {
     if (contact_lambda_[i] <= 0.0) continue;
-    const Eigen::Vector3d out = x_m_.col(i) - tool.tip_W_m;
+    const Eigen::Vector3d out = wall_.x_m.col(i) - tip_W_m_;
     const double length = out.norm();
     if (length > 0.0) tool_force_W_N_ -= contact_lambda_[i] * inv_h2 * out / length;
   }
+  double kinetic_J = 0.0;
+  for (std::int32_t i = 0; i < model_.n; ++i)
+    kinetic_J += 0.5 * model_.mass_kg[i] * wall_.v_m_per_s.col(i).squaredNorm();
   time_s_ += h_s;
   return std::isfinite(kinetic_J) && kinetic_J <= params_.max_kinetic_energy_J;
 }
@@ -268,14 +338,22 @@ bool VesselScene::Advance(const ToolInput& tool, bool tool_ok, double h_s) {
 void VesselScene::Step(const ToolInput& tool, double dt_s) {
   if (!(std::isfinite(dt_s) && dt_s > 0.0)) return;
   const bool tool_ok = tool.valid && tool.tip_W_m.allFinite() && tool.tip_W_m.norm() < kToolRange_m;
+  if (tool_ok && !tip_placed_) tip_W_m_ = tool.tip_W_m, tip_placed_ = true;
+
   const double h_s = dt_s / params_.substeps;
   for (int k = 0; k < params_.substeps; ++k) {
-    if (!Advance(tool, tool_ok, h_s)) {
+    tip_at_step_start_W_m_ = tip_W_m_;
+    if (tool_ok) {  // toward the device's tip, at most kMaxTipTravelPerStep_m
+      const Eigen::Vector3d to_device = tool.tip_W_m - tip_W_m_;
+      const double gap_m = to_device.norm();
+      tip_W_m_ += gap_m > kMaxTipTravelPerStep_m ? (kMaxTipTravelPerStep_m / gap_m) * to_device : to_device;
+    }
+    if (!Advance(tool_ok, h_s)) {
       RecoverFromBlowup();
       break;
     }
   }
-  MapSurface(surface_map_, x_m_, surface_m_);
+  MapSurface(surface_map_, wall_.x_m, surface_m_);
   UpdateOutputs(tool, tool_ok);
 }
 
@@ -284,43 +362,23 @@ void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
   const bool touching = tool_ok && force_N > 0.0;
   ticks_without_force_ = touching ? 0 : ticks_without_force_ + 1;
   const bool in_contact = touching || (tool_ok && was_in_contact_ && ticks_without_force_ < kContactEndTicks);
-  if (!touching && in_contact) {
-    // Grace period: keep the last contact plane and the events quiet.
-    tool_force_W_N_.setZero();
-    last_tip_W_m_ = tool.tip_W_m;
-    last_force_N_ = 0.0;
-    status_.tip_depth_m = std::max(0.0, -tool.tip_W_m.z());
-    return;
-  }
+  const double depth_m = tool_ok ? DepthIntoRestWall_m(tip_W_m_) : 0.0;
+  status_.tip_depth_m = std::max(0.0, depth_m);
+  if (!touching && in_contact) return;  // grace period: keep the last contact plane and the events quiet
   force_model_ = LocalForceModel{};
   if (in_contact) {
+    // The device renders a plane through the physics' tip along the force,
+    // as stiff as the settled wall at this depth: k (anchor - tip)·n = F.
     const Eigen::Vector3d n = tool_force_W_N_ / force_N;  // the wall pushes the tool out along n
-    if (!was_in_contact_) {
-      // First touch: no travel yet; start from the contact's own stiffness
-      // in series with an equally stiff wall, then learn the wall's.
-      render_stiffness_N_per_m_ = 0.5 * params_.contact_stiffness_N_per_m;
-    } else {
-      const double travel_m = (last_tip_W_m_ - tool.tip_W_m).dot(n);  // into the wall: > 0
-      if (std::abs(travel_m) > kMinTravelForStiffness_m) {
-        const double tangent = (force_N - last_force_N_) / travel_m;
-        if (tangent > 0.0) {
-          render_stiffness_N_per_m_ += kStiffnessSmoothing * (tangent - render_stiffness_N_per_m_);
-        }
-      }
-    }
-    render_stiffness_N_per_m_ = std::clamp(render_stiffness_N_per_m_, kMinRenderStiffness_N_per_m,
-                                           params_.render_stiffness_max_N_per_m);
+    const double stiffness = std::min(settled_curve_.SlopeAt_N_per_m(depth_m, kMinRenderStiffness_N_per_m),
+                                      params_.render_stiffness_max_N_per_m);
     force_model_.state = ContactState::kContact;
     force_model_.normal_W = n;
-    force_model_.stiffness_N_per_m = render_stiffness_N_per_m_;
-    // Anchor such that k (anchor - tip)·n = F at the current tip.
-    force_model_.anchor_W_m = tool.tip_W_m + (force_N / render_stiffness_N_per_m_) * n;
+    force_model_.stiffness_N_per_m = stiffness;
+    force_model_.anchor_W_m = tip_W_m_ + (force_N / stiffness) * n;
   } else {
     tool_force_W_N_.setZero();
   }
-  last_tip_W_m_ = tool_ok ? tool.tip_W_m : Eigen::Vector3d::Zero();
-  last_force_N_ = in_contact ? force_N : 0.0;
-  status_.tip_depth_m = tool_ok ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
   status_.current_layer = in_contact ? 0 : -1;
   if (in_contact != was_in_contact_) {
     events_.Push({time_s_, in_contact ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd, 0,
@@ -329,23 +387,57 @@ void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
   }
 }
 
+void VesselScene::MeasureSettledCurve() {
+  // Press the middle station's crest from above, slowly, to each depth and
+  // hold it there until the force settles. The wall's damping is raised
+  // meanwhile (statics do not depend on it; it only shortens the settling).
+  const Eigen::Vector3d crest =
+      geometry_.centreline_m.col(geometry_.stations / 2) + Eigen::Vector3d(0.0, 0.0, outer_radius_m_);
+  const double max_depth_m = 1.5 * outer_radius_m_;  // three quarters of the outer diameter
+  settled_curve_.step_m = max_depth_m / kCurveSamples;
+  settled_curve_.force_N.assign(1, 0.0);
+  const double damping = wall_model_.damping_per_s;
+  wall_model_.damping_per_s = std::max(damping, kCurveDamping_per_s);
+  ToolInput tool;
+  tool.valid = true;
+  for (int k = 1; k <= kCurveSamples; ++k) {
+    const double depth_m = k * settled_curve_.step_m;
+    const Eigen::Vector3d target = crest + Eigen::Vector3d(0.0, 0.0, params_.probe_radius_m - depth_m);
+    for (int tick = 1; k > 1 && tick < kCurvePressTicks; ++tick) {  // press down to it
+      tool.tip_W_m.z() -= settled_curve_.step_m / kCurvePressTicks;
+      Step(tool, 1e-3);
+    }
+    tool.tip_W_m = target;
+    double before = 0.0, now = 0.0;
+    for (int tick = 0; tick < kMaxSettleTicks; ++tick) {
+      Step(tool, 1e-3);
+      now = tool_force_W_N_.z();
+      if (tick % kSettleWindowTicks != kSettleWindowTicks - 1) continue;
+      if (tip_W_m_ == tool.tip_W_m && std::abs(now - before) <= kSettledFraction * std::abs(now)) break;
+      before = now;
+    }
+    settled_curve_.force_N.push_back(std::max(0.0, now));
+  }
+  wall_model_.damping_per_s = damping;
+}
+
 void VesselScene::RecoverFromBlowup() {
-  x_m_ = geometry_.nodes_m;  // same sizes: copies, no allocation
-  v_m_per_s_.setZero();
+  wall_.x_m = geometry_.nodes_m;  // same sizes: copies, no allocation
+  wall_.v_m_per_s.setZero();
   tool_force_W_N_.setZero();
   ++status_.numerical_resets;
   events_.Push({time_s_, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
 }
 
 void VesselScene::Reset() {
-  x_m_ = geometry_.nodes_m;
-  v_m_per_s_.setZero();
+  wall_.x_m = geometry_.nodes_m;
+  wall_.v_m_per_s.setZero();
+  tip_W_m_.setZero();
+  tip_at_step_start_W_m_.setZero();
+  tip_placed_ = false;
   time_s_ = 0.0;
   was_in_contact_ = false;
   ticks_without_force_ = 0;
-  render_stiffness_N_per_m_ = 0.0;
-  last_tip_W_m_.setZero();
-  last_force_N_ = 0.0;
   strain_energy_J_ = 0.0;
   surface_m_ = geometry_.surface_m;
   tool_force_W_N_.setZero();
@@ -359,8 +451,8 @@ void VesselScene::Reset() {
 std::uint64_t VesselScene::StateHash() const {
   StateHasher h;
   AddCommonSceneState(h, *this, reset_epoch_);
-  // The surface is a function of x_m_; λ and the candidates are per-step scratch.
-  h.Add(x_m_).Add(v_m_per_s_).Add(was_in_contact_).Add(ticks_without_force_).Add(render_stiffness_N_per_m_).Add(last_tip_W_m_).Add(last_force_N_);
+  // The surface is a function of the nodes; λ and the candidates are per-step scratch.
+  h.Add(wall_.x_m).Add(wall_.v_m_per_s).Add(tip_W_m_).Add(tip_placed_).Add(was_in_contact_).Add(ticks_without_force_);
   return h.Value();
 }
 

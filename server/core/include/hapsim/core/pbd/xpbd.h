@@ -68,9 +68,21 @@ struct XpbdState {
 XpbdModel BuildXpbdModel(const XpbdDef& def);
 XpbdState MakeXpbdState(const XpbdModel& model);
 
+// Constraints a caller projects in each sweep besides the model's own
+// distance constraints: a tool's contact, a floor, tethers. StepXpbd calls
+// BeginStep once after its prediction and Project once per sweep, after the
+// distance constraints; Project may move only nodes with inverse mass > 0.
+class XpbdExtraConstraints {
+ public:
+  virtual ~XpbdExtraConstraints() = default;
+  virtual void BeginStep() = 0;  // reset the step's multipliers
+  virtual void Project(Eigen::Matrix3Xd& x_m, const Eigen::VectorXd& inv_mass_per_kg, double h_s) = 0;
+};
+
 // One step of h seconds: predict with velocities, gravity and f_ext, project
-// the constraints `iterations` times, derive velocities from the positions.
-void StepXpbd(const XpbdModel& model, XpbdState& state, double h_s);
+// the constraints (the model's, then `extra`'s) `iterations` times, derive
+// velocities from the positions.
+void StepXpbd(const XpbdModel& model, XpbdState& state, double h_s, XpbdExtraConstraints* extra = nullptr);
 
 // Reorders constraints by a greedy colouring of the constraint graph: each
 // colour's constraints share no node, colours follow one another, the order

@@ -72,7 +72,21 @@ struct VesselParams {
   // drag per velocity 60/s gave on the 2-substep ones (4x lighter); pressed
   // at 10 mm/s the vein's force at 1 mm is then 1.4x its settled value.
   double damping_per_s = 15.0;
+  // The tissue the vessel lies in (skin and subcutis over it, connective
+  // tissue around it) as an elastic (Winkler) foundation: each outer-wall
+  // node is tied to its rest position by a spring of E_t x (its share of the
+  // outer surface) / depth. It keeps the vessel from rolling away under the
+  // probe (a vein on a frictionless bed slid 3 mm sideways and let a probe
+  // through at 1.6 mm) and is most of what a finger or probe on the skin
+  // feels. E_t: in vivo skin ~69 kPa (Hendriks et al. 2006); depth 0: the
+  // outer radius. 0: no foundation (the bare tube on its bed).
+  double tissue_modulus_Pa = 69e3;
+  double tissue_depth_m = 0.0;
   double probe_radius_m = 1e-3;        // catheter / probe tip as a sphere
+  // Coulomb friction between the probe and the tissue (skin on steel or
+  // plastic: ~0.2-0.8 in the literature, e.g. Derler & Gerhardt 2012). Without
+  // it, the wall pressed deep slides round the sphere and lets the probe through.
+  double contact_friction = 0.5;
   double contact_stiffness_N_per_m = 2000.0;  // XPBD compliance of the tip-node contact = its inverse
   double render_stiffness_max_N_per_m = 1000.0;
   double max_kinetic_energy_J = 1.0;   // a step above this is a blow-up: counted, the scene resets

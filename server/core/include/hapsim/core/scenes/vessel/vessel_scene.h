@@ -1,26 +1,32 @@
 // vessel: a blood vessel's wall pressed by a catheter / probe tip (vascular
 // paper; MISSION.md §3; issue 12).
 //
-// Model, per physics step of h = tick / substeps:
+// Model, per physics step of h = tick / substeps — one StepXpbd (pbd/xpbd.h,
+// the step the XPBD tests prove):
 //  1. meshless elastic forces on the wall's nodes (meshless/, Müller et al.
-//     2004, explicit), integrated into predicted positions with damping;
-//  2. XPBD constraint sweeps (pbd/xpbd.h): the paper's stretching constraints
-//     between lattice neighbours (axial, around, across the wall) with
-//     compliance 1 / (stretch_fraction E spacing), optionally the paper's
-//     per-tetrahedron energy constraints (tet_fraction), and the tip's contact —
-//     each node inside the probe sphere is pushed out with compliance
-//     1 / contact_stiffness, a unilateral constraint whose multiplier gives the
-//     contact force (λ / h² per node);
-//     and the bed, a rigid frictionless plane the vessel lies on (no node
-//     below it), standing in for the tissue around a real vessel;
+//     2004) as the step's external forces: StepXpbd's explicit prediction
+//     with damping;
+//  2. XPBD constraint sweeps: the paper's stretching constraints between
+//     lattice neighbours (axial, around, across the wall) with compliance
+//     1 / (stretch_fraction E spacing), then, per sweep, this scene's own
+//     (VesselConstraints): the paper's per-tetrahedron energy constraints
+//     (tet_fraction), the foundation's tethers (the tissue around the
+//     vessel, tissue_modulus_Pa), the tip's contact — each node inside the
+//     probe sphere is pushed out with compliance 1 / contact_stiffness, a
+//     unilateral constraint whose multiplier gives the contact force
+//     (λ / h² per node) — and the bed, a rigid frictionless plane under the
+//     vessel (no node below it);
 //  3. velocities from the corrected positions.
+// The tip the physics sees moves at most kMaxTipTravelPerStep_m per step
+// toward the device's: a late tick's jump is spread over the next steps
+// instead of hitting the scaled masses at once.
 // The display surface (outer wall and lumen) follows the nodes through the
 // MLS map (meshless/mls_surface_map.h), precomputed at rest.
 //
 // Force on the device: the sum of the contact forces on the tool, rendered by
 // the bridge as a contact plane through the tip along that force, with the
-// wall's tangent stiffness estimated from the last ticks' force and tip
-// travel (capped by render_stiffness_max_N_per_m), not a constant.
+// stiffness of the wall's settled force-depth curve at the tip's depth
+// (vessel_settled_curve.h: the same scene pressed quasi-statically at build).
 //
 // Baselines (parameter `model`), on the same nodes, contact and bed: a plain
 // mass-spring wall (springs on the lattice's edges and diagonals with
@@ -30,8 +36,7 @@
 //
 // Departures, stated: the explicit forces need small steps for real wall
 // masses, so node masses are scaled (mass_scale; statics unchanged) — see
-// vessel_params.h; the paper's per-tetrahedron energy constraint is not in
-// this scene yet.
+// vessel_params.h.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -48,6 +53,7 @@
 #include "hapsim/core/scenes/scene_state_hash.h"
 #include "hapsim/core/scenes/vessel/vessel_geometry.h"
 #include "hapsim/core/scenes/vessel/vessel_params.h"
+#include "hapsim/core/scenes/vessel/vessel_settled_curve.h"
 #include "hapsim/core/spatial/uniform_grid.h"
 
 namespace hapsim::core {
@@ -72,49 +78,77 @@ class VesselScene final : public Scene {
   // For tests, validation and benchmarks.
   const VesselGeometry& Geometry() const { return geometry_; }
   const MeshlessModel& Model() const { return model_; }
-  const Eigen::Matrix3Xd& Nodes_m() const { return x_m_; }
+  const Eigen::Matrix3Xd& Nodes_m() const { return wall_.x_m; }
   const VesselParams& Params() const { return params_; }
   double StrainEnergy_J() const { return strain_energy_J_; }
   double MassScale() const { return mass_scale_; }  // the one in use (automatic when the parameter is 0)
+  // The wall pressed at build: what the device's stiffness is taken from.
+  const VesselSettledCurve& SettledCurve() const { return settled_curve_; }
+  // Where the physics' tip is (it follows the device's at a bounded travel per step).
+  const Eigen::Vector3d& PhysicsTip_W_m() const { return tip_W_m_; }
+  // The probe's depth into the undeformed wall [m]: how far the tip sphere
+  // reaches past the rest outer surface of the nearest station (< 0: clear).
+  double DepthIntoRestWall_m(const Eigen::Vector3d& tip_W_m) const;
+
+  // Largest travel of the physics' tip in one physics step [m] (20 mm/s at 1 kHz).
+  static constexpr double kMaxTipTravelPerStep_m = 2e-5;
 
  private:
-  void BuildLattice(double spacing_m);
-  bool Advance(const ToolInput& tool, bool tool_ok, double h_s);  // false: blew up
+  // The constraints this scene projects in each XPBD sweep after the
+  // stretching constraints: tetrahedra, the foundation, the tip, the bed.
+  class VesselConstraints final : public XpbdExtraConstraints {
+   public:
+    explicit VesselConstraints(VesselScene& scene) : scene_(scene) {}
+    void BeginStep() override;
+    void Project(Eigen::Matrix3Xd& x_m, const Eigen::VectorXd& inv_mass_per_kg, double h_s) override;
+
+   private:
+    VesselScene& scene_;
+  };
+
+  void BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch);
+  void BuildFoundation(const VesselGeometryDef& def);
+  void MeasureSettledCurve();              // at build: settled_curve_
+  bool Advance(bool tool_ok, double h_s);  // false: blew up
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
 
   VesselParams params_;
   VesselGeometry geometry_;
+  double outer_radius_m_ = 0.0;
   MeshlessModel model_;
   MlsSurfaceMap surface_map_;
   VesselModel kind_ = VesselModel::kMeshlessXpbd;
-  std::vector<DistanceConstraint> stretch_;  // meshless_xpbd: the paper's stretching constraints (lattice edges)
+  XpbdModel wall_model_;  // the wall's nodes (scaled masses) and its distance constraints
   // Baselines: springs on the lattice's edges and diagonals (compliance =
-  // 1 / k with k = E x rest length), forces for mass_spring, plain-PBD
-  // constraints for plain_pbd.
+  // 1 / k with k = E x rest length), forces for mass_spring (plain_pbd's are
+  // in wall_model_).
   std::vector<DistanceConstraint> springs_;
   std::vector<TetEnergyConstraint> tets_;  // meshless_xpbd with tet_fraction > 0
-  Eigen::VectorXd tet_lambda_;
+  // The foundation: node i held at its rest position with compliance [m/N].
+  std::vector<std::int32_t> tether_node_;
+  std::vector<double> tether_compliance_m_per_N_;
   UniformGrid rest_grid_;  // rest positions: contact candidates
   double bed_z_m_ = 0.0;      // the vessel lies on a rigid plane at its lowest rest point
   double mass_scale_ = 1.0;
+  VesselSettledCurve settled_curve_;
 
   // State.
-  Eigen::Matrix3Xd x_m_, v_m_per_s_;
+  XpbdState wall_;  // positions, velocities (f_ext_N: the step's elastic forces)
+  Eigen::Vector3d tip_W_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d tip_at_step_start_W_m_ = Eigen::Vector3d::Zero();  // per-step scratch: the friction's reference
+  bool tip_placed_ = false;  // false until the first valid pose (then tip_W_m_ follows it)
   double time_s_ = 0.0;
   bool was_in_contact_ = false;
   int ticks_without_force_ = 0;
-  double render_stiffness_N_per_m_ = 0.0;  // tangent estimate (EMA)
-  Eigen::Vector3d last_tip_W_m_ = Eigen::Vector3d::Zero();
-  double last_force_N_ = 0.0;
 
   // Scratch (sized at build; pure functions of the state within a step).
-  Eigen::Matrix3Xd x_start_m_, elastic_N_, surface_m_;
   std::vector<Eigen::Matrix3d> F_;
-  Eigen::VectorXd stretch_lambda_;
+  Eigen::VectorXd tet_lambda_, tether_lambda_;
   std::vector<std::uint32_t> candidates_;
   std::vector<double> contact_lambda_;
   double strain_energy_J_ = 0.0;
+  Eigen::Matrix3Xd surface_m_;
 
   MeshTopology topology_;
   LocalForceModel force_model_;
