@@ -94,6 +94,52 @@ std::vector<DistanceConstraint> GridEdges(int gx, int gy) {
   return edges;
 }
 
+// A rigid floor at z = 0 as a caller's extra constraint: each node below it
+// is projected up with its own multiplier (the floor's push, λ / h²).
+class FloorConstraint final : public XpbdExtraConstraints {
+ public:
+  explicit FloorConstraint(std::int32_t n) : lambda_(Eigen::VectorXd::Zero(n)) {}
+  void BeginStep() override { lambda_.setZero(), ++steps_; }
+  void Project(Eigen::Matrix3Xd& x_m, const Eigen::VectorXd& inv_mass_per_kg, double) override {
+    ++sweeps_;
+    for (Eigen::Index i = 0; i < x_m.cols(); ++i) {
+      if (inv_mass_per_kg[i] == 0.0 || x_m(2, i) >= 0.0) continue;
+      const double dlambda = -x_m(2, i) / inv_mass_per_kg[i];  // rigid: C = z, α = 0
+      lambda_[i] += dlambda;
+      x_m(2, i) += inv_mass_per_kg[i] * dlambda;
+    }
+  }
+  Eigen::VectorXd lambda_;
+  int steps_ = 0, sweeps_ = 0;
+};
+
+TEST(Xpbd, ACallersConstraintsAreProjectedInEverySweepAndTheirMultipliersGiveTheForce) {
+  // The chain's bottom node starts 2 mm above a floor; hanging freely it
+  // would sag 4.4 mm (α m g summed over the links), so it comes to rest on
+  // the floor, which carries what the links do not: the chain's weight
+  // minus the top link's pull.
+  XpbdDef def = Chain(20);
+  def.x0_m.row(2).array() += 2e-3 + kRest_m * (kNodes - 1);  // bottom node 2 mm above z = 0
+  const XpbdModel model = BuildXpbdModel(def);
+  XpbdState state = MakeXpbdState(model);
+  FloorConstraint floor(model.n);
+  const double h_s = 1e-3;
+  const int steps = 4000;
+  for (int k = 0; k < steps; ++k) StepXpbd(model, state, h_s, &floor);
+  EXPECT_EQ(floor.steps_, steps);
+  EXPECT_EQ(floor.sweeps_, steps * 20);
+  EXPECT_GE(state.x_m.row(2).minCoeff(), -1e-15);
+  // Statics: the top link's tension T = stretch / α holds the chain up, the
+  // floor the rest: T + floor = total weight of the free nodes.
+  const double top_tension_N = ((state.x_m.col(0) - state.x_m.col(1)).norm() - kRest_m) / kCompliance_m_per_N;
+  const double floor_N = floor.lambda_.sum() / (h_s * h_s);
+  const double weight_N = (kNodes - 1) * kMass_kg * kG;
+  std::printf("chain on a floor: floor %.6f N + top link %.6f N = %.6f N, weight %.6f N\n", floor_N, top_tension_N,
+              floor_N + top_tension_N, weight_N);
+  EXPECT_GT(floor_N, 0.1 * weight_N);  // the floor does carry part of it
+  EXPECT_NEAR(floor_N + top_tension_N, weight_N, 1e-6 * weight_N);
+}
+
 TEST(XpbdColourOrder, IsAPermutationWhoseColourRunsShareNoNode) {
   const std::vector<DistanceConstraint> natural = GridEdges(12, 9);
   std::vector<DistanceConstraint> ordered = natural;

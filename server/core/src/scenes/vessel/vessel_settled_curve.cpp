@@ -1,6 +1,7 @@
 #include "hapsim/core/scenes/vessel/vessel_settled_curve.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace hapsim::core {
 namespace {
@@ -23,8 +24,13 @@ double VesselSettledCurve::ForceAt_N(double depth_m) const {
 
 double VesselSettledCurve::SlopeAt_N_per_m(double depth_m, double min_N_per_m) const {
   if (Empty()) return min_N_per_m;
-  const std::size_t k = SegmentOf(*this, depth_m);
-  return std::max(min_N_per_m, (force_N[k + 1] - force_N[k]) / step_m);
+  // Central difference over +-2 samples around the nearest (one-sided at
+  // the ends): the node lattice makes the slope wiggle by +-30 % from one
+  // 0.1 mm to the next on the vein; the device renders the trend.
+  const auto last = static_cast<double>(force_N.size() - 1);
+  const auto k = static_cast<std::size_t>(std::clamp(std::round(depth_m / step_m), 0.0, last));
+  const std::size_t lo = k < 2 ? 0 : k - 2, hi = std::min(k + 2, force_N.size() - 1);
+  return std::max(min_N_per_m, (force_N[hi] - force_N[lo]) / (static_cast<double>(hi - lo) * step_m));
 }
 
 }  // namespace hapsim::core

@@ -16,8 +16,8 @@ struct VesselSettledCurve {
   double MaxDepth_m() const { return step_m * static_cast<double>(force_N.size() - 1); }
   // Linear interpolation between samples; past the last, the last segment extended.
   double ForceAt_N(double depth_m) const;
-  // Slope dF/d(depth) [N/m] of the sample segment holding depth_m (the
-  // first below 0, the last past the end), never below min_N_per_m.
+  // Slope dF/d(depth) [N/m] at depth_m: the central difference around the
+  // nearest sample (one-sided at the curve's ends), never below min_N_per_m.
   double SlopeAt_N_per_m(double depth_m, double min_N_per_m) const;
 };
 
