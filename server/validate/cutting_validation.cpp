@@ -158,6 +158,17 @@ void WriteStaticProblem(const CuttingScene& scene, double y0, const std::filesys
     springs << skin.model.spring_i[k] << "," << skin.model.spring_j[k] << "," << skin.model.spring_k_N_per_m[k] << ","
             << skin.model.spring_rest_m[k] << "\n";
   }
+  // The same skin as a continuum for check_cutting.py's plane-stress solve.
+  const CuttingParams& p = scene.Params();
+  std::ofstream continuum(out / "static_continuum.csv");
+  continuum.precision(17);
+  continuum
+      << "length_m,width_m,thickness_m,youngs_modulus_Pa,poisson_ratio,residual_stress_Pa,"
+         "anchor_k_N_per_m,spacing_m,incision_y_m,incision_x0_m,incision_x1_m,spring_k_N_per_m,bending_k_N_per_m\n"
+      << p.patch_length_m << "," << p.patch_width_m << "," << p.skin_thickness_m << "," << p.youngs_modulus_Pa << ","
+      << 1.0 / 3.0 << "," << scene.ResidualStress_Pa() << "," << p.anchor_stiffness_N_per_m << "," << p.spacing_m << ","
+      << y0 << "," << scene.Incision().Controls(0)[0].x() << "," << scene.Incision().LastPoint().x() << ","
+      << p.spring_stiffness_N_per_m << "," << p.bending_stiffness_N_per_m << "\n";
   pairs << "x_mm,node_a,node_b,simulated_width_mm\n";
   for (const double x : {0.0, -0.005, 0.005}) {
     const auto [a, b] = LipPair(skin, x, y0);

@@ -217,8 +217,18 @@ void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
     force_W_N_ -= f;
     loaded_nodes_.push_back(v);
   }
-  if (cutting_) return;
   const Eigen::Vector3d& tip = tool.tip_W_m;
+  if (cutting_) {
+    // In the wound the blade has no skin surface under it; the tissue
+    // around and below it resists pressing deeper with the pressing law's
+    // stiffness from the rest surface z = 0 (so it is continuous with the
+    // press that started the cut), carried by the tissue underneath.
+    const double depth_m = -tip.z();
+    if (depth_m > 0.0) {
+      force_W_N_.z() += std::max(0.0, k * depth_m - params_.contact_damping_Ns_per_m * tool.velocity_W_m_per_s.z());
+    }
+    return;
+  }
   const double fx = (tip.x() + 0.5 * params_.patch_length_m) / (params_.patch_length_m / (skin_.nx - 1));
   const double fy = (tip.y() + 0.5 * params_.patch_width_m) / (params_.patch_width_m / (skin_.ny - 1));
   if (!(fx >= 0.0 && fy >= 0.0 && fx < skin_.nx - 1 && fy < skin_.ny - 1)) return;
@@ -257,14 +267,21 @@ void CuttingScene::UpdateForceModel(const ToolInput& tool) {
   }
   const Eigen::Vector3d& tip = tool.tip_W_m;
   if (cutting_) {
+    // The drag along the incision, and the normal law of the depth: k (0 - z) - b v_z.
     m.state = ContactState::kCutting;
-    m.anchor_W_m = tip;
+    m.anchor_W_m = Eigen::Vector3d(tip.x(), tip.y(), 0.0);
     m.normal_W = Eigen::Vector3d::UnitZ();
+    m.stiffness_N_per_m = std::min(params_.contact_stiffness_N_per_m, params_.render_stiffness_max_N_per_m);
+    m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
+    const double depth_m = -tip.z();
+    const double normal_N = depth_m > 0.0 ? std::max(0.0, params_.contact_stiffness_N_per_m * depth_m -
+                                                              m.damping_Ns_per_m * tool.velocity_W_m_per_s.z())
+                                          : 0.0;
     const Eigen::Vector2d t = curve_.Segments() > 0 ? curve_.Tangent(curve_.Segments()) : Eigen::Vector2d::UnitX();
     m.drag_direction_W = Eigen::Vector3d(t.x(), t.y(), 0.0);
     m.drag_N = params_.cut_force_N;
     m.drag_damping_Ns_per_m = params_.cut_damping_Ns_per_m;
-    m.feedforward_W_N = force_W_N_;  // the blade sides' reactions
+    m.feedforward_W_N = force_W_N_ - normal_N * Eigen::Vector3d::UnitZ();  // the blade sides' reactions
     force_W_N_ = EvaluateLocalForce(m, tip, tool.velocity_W_m_per_s);
   } else if (force_W_N_.z() > 0.0 || !loaded_nodes_.empty()) {
     m.state = ContactState::kContact;

@@ -12,7 +12,9 @@
 //     blade's crossing of the skin plane starts the incision curve; each
 //     segment_length_m of travel commits a segment (three-stage cut,
 //     cutting/skin_cutter.h); the tool feels kCutting: a drag along the
-//     incision (cut_force_N, smoothed Coulomb, plus cut_damping_Ns_per_m).
+//     incision (cut_force_N, smoothed Coulomb, plus cut_damping_Ns_per_m),
+//     and the pressing law against going deeper (k and b from the rest
+//     surface z = 0, carried by the tissue underneath).
 //   cutting ──tip above the surface, off the patch, or the tool gone──
 //     free (event cut_end, value = the incision's length).
 //
