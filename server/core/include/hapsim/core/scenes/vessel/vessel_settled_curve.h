@@ -16,8 +16,12 @@ struct VesselSettledCurve {
   double MaxDepth_m() const { return step_m * static_cast<double>(force_N.size() - 1); }
   // Linear interpolation between samples; past the last, the last segment extended.
   double ForceAt_N(double depth_m) const;
-  // Slope dF/d(depth) [N/m] at depth_m: the central difference around the
-  // nearest sample (one-sided at the curve's ends), never below min_N_per_m.
+  // The depth at which the curve reaches force_N (the first crossing;
+  // linear between samples; past the last sample, the last segment extended).
+  double DepthAtForce_m(double level_N) const;
+  // Slope dF/d(depth) [N/m] at depth_m: the central difference over +-3
+  // samples around the nearest (one-sided at the curve's ends), never below
+  // min_N_per_m.
   double SlopeAt_N_per_m(double depth_m, double min_N_per_m) const;
 };
 
