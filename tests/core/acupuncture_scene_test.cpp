@@ -151,14 +151,6 @@ TEST_F(AcupunctureSceneTest, ForceRisesMonotonicallyBeforeEachPunctureAndDropsAt
   }
 }
 
-TEST_F(AcupunctureSceneTest, SkinPeakPunctureForceIsWithinMeasuredRange) {
-  const Trace tr = Insert(scene_, 3e-3);
-  ASSERT_GE(tr.punctures.size(), 1u);
-  const double peak_N = tr.force_N[tr.puncture_tick[0] - 1];
-  EXPECT_GT(peak_N, 0.1);  // van Gerwen 2012: 0.1–2 N, median 1.22 N
-  EXPECT_LT(peak_N, 2.0);
-}
-
 TEST_F(AcupunctureSceneTest, InsideFatTheForceIsTableOneDamping) {
   // Tip 5 mm into the fat, moving at v: F = (d_s h_s + d_f h) v.
   Insert(paper_, 5.8e-3);
@@ -200,11 +192,7 @@ TEST_F(AcupunctureSceneTest, ShaftFrictionHoldsTheNeedleAtRestAndStaysBoundedAtS
   for (; z > -20e-3; z -= step_m) scene_.Step(VerticalTool(z, -v), kTick_s);
   for (int k = 0; k < 200; ++k) scene_.Step(VerticalTool(z, 0.0), kTick_s);  // stopped
   ASSERT_EQ(scene_.Status().current_layer, 2);
-  const double fc = scene_.ShaftCoulomb_N();
-  const auto& L = scene_.Params().layers;
-  const double depth = scene_.Status().tip_depth_m;
-  EXPECT_NEAR(fc, L[0].shaft_coulomb_N_per_m * L[0].thickness_m + L[1].shaft_coulomb_N_per_m * L[1].thickness_m +
-                      L[2].shaft_coulomb_N_per_m * (depth - L[0].thickness_m - L[1].thickness_m), 1e-12);
+  const double fc = scene_.ShaftCoulomb_N();  // the law itself is checked by check_puncture.py's own simulation
   EXPECT_NEAR(scene_.ToolForce_W_N().z(), fc, 1e-12);  // at rest: held at the Coulomb level, pushing out
   for (double zp = 1e-3; zp > z; zp -= step_m) paper_.Step(VerticalTool(zp, -v), kTick_s);
   for (int k = 0; k < 10; ++k) paper_.Step(VerticalTool(z, 0.0), kTick_s);
@@ -275,19 +263,68 @@ TEST_F(AcupunctureSceneTest, LocalForceModelReproducesPhysicsForceAtCurrentTip) 
   EXPECT_GT(phases_seen[static_cast<int>(ContactState::kPunctured)], 0);
 }
 
-TEST_F(AcupunctureSceneTest, ContactModelIsStiffButCappedForTheDevice) {
-  for (double z = 1e-3; scene_.ForceModel().state != ContactState::kContact; z -= 5e-6)
-    scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
-  const LocalForceModel m = scene_.ForceModel();
-  EXPECT_NEAR(m.normal_W.z(), 1.0, 1e-6);
-  EXPECT_DOUBLE_EQ(m.stiffness_N_per_m,
-                   std::min(scene_.Params().render_stiffness_max_N_per_m,
-                            std::max(1.0, NetStiffnessAtDepth_N_per_m(scene_.Net(0), scene_.NetState(0).depth_m))));
-  // Pressed to just before puncture the skin is at its stiffest, still
-  // within what the Omni renders (1.02 N/mm on its weakest axis).
-  for (double z = -5e-6; scene_.ForceModel().state == ContactState::kContact && z > -10e-3; z -= 5e-6)
-    scene_.Step(VerticalTool(z, -kSpeed_m_per_s), kTick_s);
-  EXPECT_LE(scene_.Params().render_stiffness_max_N_per_m, 1020.0);
+TEST_F(AcupunctureSceneTest, TheDeviceModelPredictsTheNextTicksForceWhilePressingALayer) {
+  // Off the tick's pose: the bridge evaluates the model at poses between
+  // ticks, so the model of tick k evaluated at tick k+1's pose (5 um on, at
+  // 5 mm/s) must give what the physics gives there, up to the change of
+  // stiffness over one step. Checked in every tick of the contact phases
+  // (a layer pressed before it gives way), punctures excluded (the model
+  // cannot foresee a layer giving way). Not checked inside: there the model
+  // has no stiffness along the needle for the next layer's net, so between
+  // ticks it holds the last force (docs/validation.md#acupuncture).
+  const double step_m = kSpeed_m_per_s * kTick_s;
+  LocalForceModel previous;
+  double previous_force_N = 0.0, worst_rel = 0.0, worst_change_N = 0.0;
+  int compared = 0;
+  for (double z = 1e-3; z > -20e-3; z -= step_m) {
+    const ToolInput t = VerticalTool(z, -kSpeed_m_per_s);
+    const std::uint64_t punctures_before = scene_.EventsTotal();
+    scene_.Step(t, kTick_s);
+    const double force_N = scene_.ToolForce_W_N().z();
+    const bool same_phase =
+        previous.state == ContactState::kContact && scene_.ForceModel().state == ContactState::kContact;
+    if (same_phase && scene_.EventsTotal() == punctures_before) {
+      const double predicted_N = EvaluateLocalForce(previous, t.tip_W_m, t.velocity_W_m_per_s).z();
+      const double change_N = std::abs(force_N - previous_force_N);
+      const double rel = std::abs(predicted_N - force_N) / std::max(change_N, 1e-6);
+      worst_rel = std::max(worst_rel, rel);
+      worst_change_N = std::max(worst_change_N, change_N);
+      ++compared;
+    }
+    previous = scene_.ForceModel();
+    previous_force_N = force_N;
+  }
+  std::printf("one tick ahead, %d ticks: worst |predicted - physics| / |force change| %.3f (largest change %.4f N)\n",
+              compared, worst_rel, worst_change_N);
+  EXPECT_GT(compared, 500);
+  EXPECT_LT(worst_rel, 0.06);  // seen 0.041
+}
+
+TEST_F(AcupunctureSceneTest, TheContactStiffnessIsTheNetsTangentCappedAtTheDevicesLimit) {
+  // The stiffness sent while pressing the skin against the physics' own
+  // tangent, measured by finite difference: two quasi-static holds 10 um
+  // apart; where that tangent passes the cap, the cap is sent.
+  double z = 1e-3;
+  while (scene_.ForceModel().state != ContactState::kContact) scene_.Step(VerticalTool(z -= 5e-6, 0.0), kTick_s);
+  int below_cap = 0, at_cap = 0;
+  const double cap = scene_.Params().render_stiffness_max_N_per_m;
+  for (int k = 0; k < 400 && scene_.ForceModel().state == ContactState::kContact; ++k) {
+    const double z0 = z - 10e-6 * k;
+    for (int j = 0; j < 5; ++j) scene_.Step(VerticalTool(z0, 0.0), kTick_s);
+    const double f0 = scene_.ToolForce_W_N().z(), sent = scene_.ForceModel().stiffness_N_per_m;
+    for (int j = 0; j < 5; ++j) scene_.Step(VerticalTool(z0 - 1e-5, 0.0), kTick_s);
+    if (scene_.ForceModel().state != ContactState::kContact) break;  // it gave way
+    const double tangent = (scene_.ToolForce_W_N().z() - f0) / 1e-5;
+    if (tangent < cap) {
+      EXPECT_NEAR(sent, tangent, 0.05 * tangent + 1.0) << "depth " << -z0;
+      ++below_cap;
+    } else {
+      EXPECT_EQ(sent, cap) << "depth " << -z0;
+      ++at_cap;
+    }
+  }
+  std::printf("skin pressed: %d holds below the cap, %d at it (cap %.0f N/m)\n", below_cap, at_cap, cap);
+  EXPECT_GT(below_cap, 10);
 }
 
 TEST_F(AcupunctureSceneTest, DisplayedSkinFollowsTheNetAndRecoversOnLiftOff) {
