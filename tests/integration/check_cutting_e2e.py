@@ -108,9 +108,19 @@ check(bool(air) and max(abs(float(r[k])) for r in air for k in ("req_fx_N", "req
 cutting = [r for r in rows if r["phase"] == "cut"][100:]  # after the blade is up to speed in the skin
 drag = sorted(-float(r["req_fx_N"]) for r in cutting)
 median = drag[len(drag) // 2] if drag else 0.0
-check(0.8 * DRAG_N < median < 1.3 * DRAG_N,
+# The law is the floor: the lips pushed aside by the blade add their
+# reaction against the stroke (seen +10 %).
+check(DRAG_N <= median < 1.2 * DRAG_N,
       f"drag while cutting: median {median:.3f} N against the stroke; the law gives {DRAG_N:.3f} N "
       "(plus the blade's push on the lips)")
+# Depth is felt while cutting: the pressing law from the rest surface,
+# k (0 - z) with k = contact_stiffness_N_per_m 300 (the blade moves
+# level, so its damping adds nothing); the blade's tilted sides take a little
+# off (seen -4 %).
+normal = sorted(float(r["req_fz_N"]) / (300.0 * -float(r["z_m"])) for r in cutting if float(r["z_m"]) < 0.0)
+normal_median = normal[len(normal) // 2] if normal else 0.0
+check(0.9 < normal_median <= 1.0,
+      f"vertical force while cutting: median {normal_median:.3f} x the pressing law k (0 - z) at the blade's depth")
 sideways = max((abs(float(r["req_fy_N"])) for r in cutting), default=1.0)
 check(sideways < 0.5 * median, f"little sideways force while cutting straight (max {sideways:.3f} N)")
 finish()
