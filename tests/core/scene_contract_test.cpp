@@ -32,7 +32,7 @@ const std::map<std::string, std::uint64_t> kGoldenHash = {
     {"acupuncture", 16354855512950627205ull},
     {"cutting", 1957159093851242908ull},
     {"tissue_block", 3148907841125443309ull},
-    {"vessel", 6230655447112089878ull},
+    {"vessel", 3391425629355453484ull},
 };
 
 ToolInput Tool(double z_m, double vz_m_per_s) {

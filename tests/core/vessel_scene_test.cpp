@@ -26,8 +26,20 @@ TEST(VesselScene, EveryShapeBuildsAtItsDefaultsWithinTheNodeLimit) {
     VesselScene scene(ParseVesselParams({{"shape", shape}}));
     EXPECT_LE(scene.Model().n, VesselLimits::kMaxNodes) << shape;
     EXPECT_GE(scene.Model().fewest_neighbours, 6) << shape;
-    scene.Step(ToolInput{}, kTick_s);  // no tool: nothing moves from rest
-    EXPECT_LT((scene.Nodes_m() - scene.Geometry().nodes_m).cwiseAbs().maxCoeff(), 1e-12) << shape;
+    // No tool: the wall stays where it settled under the lumen pressure at
+    // build (within its settling criterion), and without pressure it stays
+    // exactly at rest.
+    const Eigen::Matrix3Xd inflated = scene.Nodes_m();
+    for (int k = 0; k < 10; ++k) scene.Step(ToolInput{}, kTick_s);
+    const double inflation_m = (inflated - scene.Geometry().nodes_m).colwise().norm().maxCoeff();
+    const double drift_m = (scene.Nodes_m() - inflated).colwise().norm().maxCoeff();
+    EXPECT_GT(inflation_m, 0.0) << shape;
+    EXPECT_LT(drift_m, 1e-4 * inflation_m) << shape;  // seen 4e-6 to 1.4e-5 of it
+    VesselScene bare(ParseVesselParams({{"shape", shape}, {"lumen_pressure_Pa", 0.0}}));
+    bare.Step(ToolInput{}, kTick_s);
+    EXPECT_LT((bare.Nodes_m() - bare.Geometry().nodes_m).cwiseAbs().maxCoeff(), 1e-12) << shape;
+    std::printf("shape %d: inflated by %.4f mm, then drifts %.2e mm in 10 ticks\n", shape, 1e3 * inflation_m,
+                1e3 * drift_m);
     std::printf("shape %d: %d nodes, %ld surface vertices, fewest neighbours %d, mass scale %.0f\n", shape,
                 scene.Model().n, static_cast<long>(scene.Vertices_m().cols()), scene.Model().fewest_neighbours,
                 scene.MassScale());
@@ -120,16 +132,17 @@ TEST(VesselScene, PressedTwoMillimetresOnTheCrestOrOffItTheWallHoldsTheProbe) {
 }
 
 TEST(VesselScene, TheDeviceIsAsStiffAsTheWallSettlesAtTheTipsDepth) {
-  // The stiffness sent to the device against the slope of the settled force
-  // between 1.0 and 1.2 mm measured here by holding the probe until the
-  // force stops changing (an independent press: 2 mm/s, not the scene's
+  // The stiffness sent to the device held 1.0 mm past first touch, against
+  // the slope of the settled force between 0.7 and 1.3 mm (the +-0.3 mm
+  // trend the scene renders) measured here by holding the probe until the
+  // force stops changing: an independent press (2 mm/s, not the scene's
   // build-time 5 mm/s, and 0.15 mm along the vein from its crest sample).
   VesselScene scene(VesselParams{});
-  double force_at[2] = {0.0, 0.0};
+  double force_at[3] = {0.0, 0.0, 0.0};
   double rendered = 0.0;
-  for (int k = 0; k < 2; ++k) {
-    const double depth_m = k == 0 ? 1.0e-3 : 1.2e-3;
-    PressAcrossCrest(scene, 0.0, depth_m, [](double, double) {});
+  const double depths_m[3] = {0.7e-3, 1.0e-3, 1.3e-3};
+  for (int k = 0; k < 3; ++k) {
+    PressAcrossCrest(scene, 0.0, depths_m[k], [](double, double) {});
     const ToolInput hold = TipAt(scene.PhysicsTip_W_m().x(), 0.0, scene.PhysicsTip_W_m().z());
     double before = -1.0;
     for (int tick = 0; tick < 3000; ++tick) {
@@ -139,12 +152,12 @@ TEST(VesselScene, TheDeviceIsAsStiffAsTheWallSettlesAtTheTipsDepth) {
       if (std::abs(force_at[k] - before) < 1e-4 * force_at[k]) break;
       before = force_at[k];
     }
-    if (k == 0) rendered = scene.ForceModel().stiffness_N_per_m;
+    if (k == 1) rendered = scene.ForceModel().stiffness_N_per_m;
     scene.Reset();
   }
-  const double slope = (force_at[1] - force_at[0]) / 0.2e-3;
-  std::printf("settled 1.0 / 1.2 mm: %.4f / %.4f N, slope %.1f N/m; rendered at 1.0 mm %.1f N/m\n", force_at[0],
-              force_at[1], slope, rendered);
+  const double slope = (force_at[2] - force_at[0]) / 0.6e-3;
+  std::printf("settled 0.7 / 1.0 / 1.3 mm: %.4f / %.4f / %.4f N, slope %.1f N/m; rendered at 1.0 mm %.1f N/m\n",
+              force_at[0], force_at[1], force_at[2], slope, rendered);
   EXPECT_NEAR(rendered, slope, 0.2 * slope);  // the bound
 }
 

@@ -124,6 +124,13 @@ ParamTable<VesselParams> MakeVesselTable() {
             .max = 0.05,
             .description = "depth over which the foundation's tissue strains (0: the vessel's outer radius)"},
            &P::tissue_depth_m)
+      .Add({.name = "lumen_pressure_Pa",
+            .unit = "Pa",
+            .min = 0,
+            .max = 30000,
+            .description =
+                "blood pressure in the lumen (the wall is inflated to it at build; 6 kPa: a tourniqueted hand vein)"},
+           &P::lumen_pressure_Pa)
       .Add({.name = "probe_radius_m",
             .unit = "m",
             .min = 1e-5,

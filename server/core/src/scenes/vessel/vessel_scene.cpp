@@ -35,6 +35,10 @@ constexpr int kCurvePressTicks = 20;
 // Damping while measuring the curve [1/s]: settles in fewer ticks; 50 and
 // 200 give the same curve within 2 %.
 constexpr double kCurveDamping_per_s = 50.0;
+// Settling the wall under the lumen pressure at build: until the largest
+// displacement changes by less than this fraction over a window.
+constexpr int kMaxInflateTicks = 5000;
+constexpr double kInflateSettledFraction = 1e-5;
 
 // Largest angular frequency of a node under the meshless forces, from the
 // diagonal stiffness block (each node's own gradient term and the terms of
@@ -157,6 +161,13 @@ VesselScene::VesselScene(const VesselParams& params)
   topology_.Seal();
   status_.layer_names = {"vessel_wall"};
 
+  {  // which way the inner wall's cross product points: out of the lumen at a middle-station node
+    const int k = geometry_.stations / 2, L = geometry_.layers, R = geometry_.ring;
+    auto at = [&](int kk, int a) { return geometry_.nodes_m.col((kk * L) * R + ((a + R) % R)); };
+    const Eigen::Vector3d n = (at(k, 1) - at(k, R - 1)).cross(at(k + 1, 0) - at(k - 1, 0));
+    lumen_outward_sign_ = n.dot(at(k, 0) - geometry_.centreline_m.col(k)) >= 0.0 ? 1.0 : -1.0;
+  }
+  Inflate();
   MeasureSettledCurve();  // ~0.4 s for the vein
   Reset();
   events_ = EventLog();  // the build's own press and reset are not the session's
@@ -315,6 +326,7 @@ bool VesselScene::Advance(bool tool_ok, double h_s) {
       }
     }
   }
+  AddLumenPressure();
   // 2-3. Prediction, the sweeps (the model's constraints, then this scene's), velocities.
   VesselConstraints extra(*this);
   StepXpbd(wall_model_, wall_, h_s, &extra);
@@ -392,6 +404,49 @@ void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
   }
 }
 
+void VesselScene::AddLumenPressure() {
+  if (params_.lumen_pressure_Pa <= 0.0) return;
+  // Inner-layer node (k, 0, a): its share of the lumen's surface, oriented
+  // out of the lumen, is a quarter of the cross product of the tangents
+  // spanning its neighbours (around a-1 -> a+1, along k-1 -> k+1).
+  const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
+  const Eigen::Matrix3Xd& x = wall_.x_m;
+  auto node = [&](int k, int a) { return static_cast<Eigen::Index>((k * L) * R + ((a + R) % R)); };
+  const double scale = 0.25 * params_.lumen_pressure_Pa * lumen_outward_sign_;
+  for (int k = 1; k + 1 < S; ++k) {
+    for (int a = 0; a < R; ++a) {
+      const Eigen::Index i = node(k, a);
+      if (model_.fixed[static_cast<std::size_t>(i)]) continue;
+      const Eigen::Vector3d around = x.col(node(k, a + 1)) - x.col(node(k, a - 1));
+      const Eigen::Vector3d along = x.col(node(k + 1, a)) - x.col(node(k - 1, a));
+      wall_.f_ext_N.col(i) += scale * around.cross(along);
+    }
+  }
+}
+
+void VesselScene::Inflate() {
+  // Settle the wall under the lumen pressure alone (damped as for the
+  // curve), and keep that state as the scene's rest state.
+  inflated_m_ = geometry_.nodes_m;
+  wall_.x_m = inflated_m_;
+  if (params_.lumen_pressure_Pa > 0.0) {
+    const double damping = wall_model_.damping_per_s;
+    wall_model_.damping_per_s = std::max(damping, kCurveDamping_per_s);
+    ToolInput none;
+    double before = 0.0;
+    for (int tick = 0; tick < kMaxInflateTicks; ++tick) {
+      Step(none, 1e-3);
+      if (tick % kSettleWindowTicks != kSettleWindowTicks - 1) continue;
+      const double moved = MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
+      if (std::abs(moved - before) <= kInflateSettledFraction * moved) break;
+      before = moved;
+    }
+    wall_model_.damping_per_s = damping;
+    inflated_m_ = wall_.x_m;
+  }
+  wall_.v_m_per_s.setZero();
+}
+
 void VesselScene::MeasureSettledCurve() {
   // Press the middle station's crest from above, slowly, to each depth and
   // hold it there until the force settles. The wall's damping is raised
@@ -427,7 +482,7 @@ void VesselScene::MeasureSettledCurve() {
 }
 
 void VesselScene::RecoverFromBlowup() {
-  wall_.x_m = geometry_.nodes_m;  // same sizes: copies, no allocation
+  wall_.x_m = inflated_m_;  // same sizes: copies, no allocation
   wall_.v_m_per_s.setZero();
   tool_force_W_N_.setZero();
   ++status_.numerical_resets;
@@ -435,7 +490,7 @@ void VesselScene::RecoverFromBlowup() {
 }
 
 void VesselScene::Reset() {
-  wall_.x_m = geometry_.nodes_m;
+  wall_.x_m = inflated_m_;
   wall_.v_m_per_s.setZero();
   tip_W_m_.setZero();
   tip_at_step_start_W_m_.setZero();

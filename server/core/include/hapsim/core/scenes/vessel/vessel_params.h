@@ -82,6 +82,14 @@ struct VesselParams {
   // outer radius. 0: no foundation (the bare tube on its bed).
   double tissue_modulus_Pa = 69e3;
   double tissue_depth_m = 0.0;
+  // Blood pressure in the lumen [Pa], on the inner wall (a follower load
+  // along the current normals); the wall is inflated to it at build and
+  // resets to that state. A hand vein at heart level: ~0.7 kPa (7.2 cmH2O);
+  // under a venipuncture tourniquet ~70-80 % of the cuff's pressure (J Clin
+  // Anesth 2007, dorsal hand vein), ~6 kPa under the recommended 60 mmHg
+  // (Sasaki et al. 2012) — the default: the vein a trainee palpates before
+  // a cannulation.
+  double lumen_pressure_Pa = 6000.0;
   double probe_radius_m = 1e-3;        // catheter / probe tip as a sphere
   // Coulomb friction between the probe and the tissue (skin on steel or
   // plastic: ~0.2-0.8 in the literature, e.g. Derler & Gerhardt 2012). Without

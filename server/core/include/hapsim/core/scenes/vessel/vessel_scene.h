@@ -4,8 +4,8 @@
 // Model, per physics step of h = tick / substeps — one StepXpbd (pbd/xpbd.h,
 // the step the XPBD tests prove):
 //  1. meshless elastic forces on the wall's nodes (meshless/, Müller et al.
-//     2004) as the step's external forces: StepXpbd's explicit prediction
-//     with damping;
+//     2004) and the lumen's blood pressure on the inner wall as the step's
+//     external forces: StepXpbd's explicit prediction with damping;
 //  2. XPBD constraint sweeps: the paper's stretching constraints between
 //     lattice neighbours (axial, around, across the wall) with compliance
 //     1 / (stretch_fraction E spacing), then, per sweep, this scene's own
@@ -109,6 +109,8 @@ class VesselScene final : public Scene {
   void BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch);
   void BuildFoundation(const VesselGeometryDef& def);
   void MeasureSettledCurve();              // at build: settled_curve_
+  void Inflate();                          // at build: the wall settled under the lumen pressure, inflated_m_
+  void AddLumenPressure();                 // the pressure's nodal forces on the inner wall, into wall_.f_ext_N
   bool Advance(bool tool_ok, double h_s);  // false: blew up
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
@@ -131,7 +133,9 @@ class VesselScene final : public Scene {
   UniformGrid rest_grid_;  // rest positions: contact candidates
   double bed_z_m_ = 0.0;      // the vessel lies on a rigid plane at its lowest rest point
   double mass_scale_ = 1.0;
+  double lumen_outward_sign_ = 1.0;  // orients the inner wall's tangent cross product out of the lumen
   VesselSettledCurve settled_curve_;
+  Eigen::Matrix3Xd inflated_m_;  // the wall at rest under the lumen pressure (Reset's state)
 
   // State.
   XpbdState wall_;  // positions, velocities (f_ext_N: the step's elastic forces)
