@@ -131,6 +131,7 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   loaded_nodes_.clear();
   colliding_.clear();
   force_W_N_.setZero();
+  cut_normal_N_ = 0.0;
   if (usable) {
     if (Bounds(blade).intersects(skin_box_)) {
       if (rest_grid_version_ != skin_.topology.Version()) {
@@ -225,7 +226,8 @@ void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
     // press that started the cut), carried by the tissue underneath.
     const double depth_m = -tip.z();
     if (depth_m > 0.0) {
-      force_W_N_.z() += std::max(0.0, k * depth_m - params_.contact_damping_Ns_per_m * tool.velocity_W_m_per_s.z());
+      cut_normal_N_ = std::max(0.0, k * depth_m - params_.contact_damping_Ns_per_m * tool.velocity_W_m_per_s.z());
+      force_W_N_.z() += cut_normal_N_;
     }
     return;
   }
@@ -273,15 +275,11 @@ void CuttingScene::UpdateForceModel(const ToolInput& tool) {
     m.normal_W = Eigen::Vector3d::UnitZ();
     m.stiffness_N_per_m = std::min(params_.contact_stiffness_N_per_m, params_.render_stiffness_max_N_per_m);
     m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
-    const double depth_m = -tip.z();
-    const double normal_N = depth_m > 0.0 ? std::max(0.0, params_.contact_stiffness_N_per_m * depth_m -
-                                                              m.damping_Ns_per_m * tool.velocity_W_m_per_s.z())
-                                          : 0.0;
     const Eigen::Vector2d t = curve_.Segments() > 0 ? curve_.Tangent(curve_.Segments()) : Eigen::Vector2d::UnitX();
     m.drag_direction_W = Eigen::Vector3d(t.x(), t.y(), 0.0);
     m.drag_N = params_.cut_force_N;
     m.drag_damping_Ns_per_m = params_.cut_damping_Ns_per_m;
-    m.feedforward_W_N = force_W_N_ - normal_N * Eigen::Vector3d::UnitZ();  // the blade sides' reactions
+    m.feedforward_W_N = force_W_N_ - cut_normal_N_ * Eigen::Vector3d::UnitZ();  // the blade sides' reactions
     force_W_N_ = EvaluateLocalForce(m, tip, tool.velocity_W_m_per_s);
   } else if (force_W_N_.z() > 0.0 || !loaded_nodes_.empty()) {
     m.state = ContactState::kContact;

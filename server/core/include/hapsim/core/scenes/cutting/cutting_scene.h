@@ -103,6 +103,7 @@ class CuttingScene final : public Scene {
   std::array<std::uint32_t, 8> blade_slots_{};
   std::vector<std::uint32_t> colliding_;
   std::vector<std::uint32_t> loaded_nodes_;  // nodes given contact forces this step
+  double cut_normal_N_ = 0.0;                // this step's push against cutting deeper (in force_W_N_.z())
 
   bool cutting_ = false;
   bool in_contact_ = false;
