@@ -53,6 +53,25 @@ int CountEvents(const Scene& s, SceneEventKind kind) {
   return n;
 }
 
+TEST(CuttingScene, TheUncutSkinRestsWhereItIsDrawnUnderItsOwnTension) {
+  // Every spring is stretched (the residual pre-stress) and the hold
+  // balances it: with no tool for 0.5 s nothing moves.
+  CuttingScene scene{CuttingParams{}};
+  const SkinMesh& skin = scene.Skin();
+  double least_tension_N = 1e9;
+  for (std::int32_t k = 0; k < skin.model.NumSprings(); ++k) {
+    const auto s = static_cast<std::size_t>(k);
+    const double length = (skin.model.x0_m.col(skin.model.spring_j[s]) - skin.model.x0_m.col(skin.model.spring_i[s])).norm();
+    least_tension_N = std::min(least_tension_N, skin.model.spring_k_N_per_m[s] * (length - skin.model.spring_rest_m[s]));
+  }
+  EXPECT_GT(least_tension_N, 0.0);
+  ToolInput away;
+  for (int k = 0; k < 500; ++k) scene.Step(away, kTick_s);
+  const Eigen::Index n = static_cast<Eigen::Index>(skin.nx) * skin.ny;
+  const double moved_m = (skin.state.x_m.leftCols(n) - skin.model.x0_m.leftCols(n)).cwiseAbs().maxCoeff();
+  EXPECT_LT(moved_m, 1e-15);  // rounding of a balance of ~mN forces on 20 g nodes
+}
+
 TEST(CuttingScene, AStraightStrokeCutsAnIncisionAlongItKeepingTheMeshSound) {
   CuttingScene scene{CuttingParams{}};
   Drive(scene, Stroke({-0.01, 0.0003}, 0.0, 0.02));
@@ -100,15 +119,15 @@ double SettledMiddleGape_m(double residual_strain) {
 }
 
 TEST(CuttingScene, ResidualStressOpensTheWoundInProportionToTheStrainReleased) {
-  // The wound's opening is the skin's linear response to the released
-  // stress (sigma_r = E eps_r on the faces): half the strain, half the gape,
-  // up to the lips' small rotations. Its size against an independent
-  // continuum solve is check_cutting.py's (docs/validation.md#cutting).
-  const double full = SettledMiddleGape_m(0.1), half = SettledMiddleGape_m(0.05);
-  std::printf("settled middle gape: %.4f mm at eps_r 0.1, %.4f mm at 0.05 (ratio %.4f)\n", 1e3 * full, 1e3 * half,
-              full / half);
-  EXPECT_GT(half, 1e-5);
-  EXPECT_NEAR(full / half, 2.0, 0.01);  // seen 2.004
+  // For small released strains the wound's opening is the pre-stressed
+  // skin's linear response: twice the strain, twice the gape. (At the
+  // paper's 10 % the lattice's geometry adds ~1 %; the size against the
+  // continuum and against the lattice's exact statics is check_cutting.py's.)
+  const double twice = SettledMiddleGape_m(0.02), once = SettledMiddleGape_m(0.01);
+  std::printf("settled middle gape: %.5f mm at eps_r 0.02, %.5f mm at 0.01 (ratio %.5f)\n", 1e3 * twice, 1e3 * once,
+              twice / once);
+  EXPECT_GT(once, 1e-5);
+  EXPECT_NEAR(twice / once, 2.0, 0.002);  // seen 1.99956
 }
 
 TEST(CuttingScene, TheDeviceFeelsNothingInAirAPushWhenPressingAndDepthAndDragWhileCutting) {

@@ -108,11 +108,11 @@ check(bool(air) and max(abs(float(r[k])) for r in air for k in ("req_fx_N", "req
 cutting = [r for r in rows if r["phase"] == "cut"][100:]  # after the blade is up to speed in the skin
 drag = sorted(-float(r["req_fx_N"]) for r in cutting)
 median = drag[len(drag) // 2] if drag else 0.0
-# The law is the floor: the lips pushed aside by the blade add their
-# reaction against the stroke (seen +10 %).
-check(DRAG_N <= median < 1.2 * DRAG_N,
-      f"drag while cutting: median {median:.3f} N against the stroke; the law gives {DRAG_N:.3f} N "
-      "(plus the blade's push on the lips)")
+# The blade's sides push the lips across the incision only (its edge parts
+# the skin; the law is that resistance), so along a straight stroke the drag
+# is the law; 2 %: the stroke's speed wavers with the device's clock.
+check(abs(median - DRAG_N) <= 0.02 * DRAG_N,
+      f"drag while cutting: median {median:.4f} N against the stroke; the law gives {DRAG_N:.4f} N")
 # Depth is felt while cutting: the pressing law from the rest surface,
 # k (0 - z) with k = contact_stiffness_N_per_m 300 (the blade moves
 # level, so its damping adds nothing); the blade's tilted sides take a little

@@ -72,6 +72,7 @@ SkinCutter::SkinCutter(const SkinMesh& skin) {
   run_.reserve(nv);
   fan_ok_.reserve(nv);
   new_triangles_.reserve(2 * nv);
+  new_springs_.reserve(6 * nv);
   lip_nodes_.reserve(nv);
   touched_.reserve(nv);
   touched_mark_.assign(nv, 0);
@@ -548,6 +549,7 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
     ++st.nodes_added;
     return lip_nodes_[lip] = v;
   };
+  new_springs_.clear();
   for (Tri t : new_triangles_) {
     for (auto& e : t) e = node_of(e);
     if (topo.AddTriangle(t[0], t[1], t[2], kWoundPart) == kNoSlot) {
@@ -560,8 +562,9 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
       const auto b = static_cast<std::int32_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
       touch(static_cast<std::uint32_t>(a));
       if (FindSpring(skin.model, a, b) != kNoSpring) continue;
-      const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm();
+      const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm() * (1.0 - skin.def.prestrain);
       if (AddSpring(skin.model, a, b, rest, skin.def.spring_k_N_per_m, skin.def.spring_c_Ns_per_m) != kNoSpring) {
+        new_springs_.push_back({static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)});
         ++st.springs_added;
       } else {
         ++st.springs_refused;
@@ -572,9 +575,39 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
     if (topo.Vertices().IsLive(v)) RelumpNodeMass(skin, v);
     touched_mark_[v] = 0;
   }
+  SetNewSpringStiffness(skin);
   RebuildWoundEdges(skin);
+  // Every spring this cut removed, added or stiffened had an end within
+  // reach of the segment: the pre-stress's hold changed only there.
+  for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v)
+    if (skin.model.node_live[v] && DistanceToSegment(skin.model.x0_m.col(v)) <= far_m_) UpdatePrestressHoldOf(skin, v);
   clean_up();
   return st;
+}
+
+// The new triangles replace lattice that had two-apart springs besides its
+// edges; edge springs of K alone would leave a band along the wound a third
+// softer along it (the wound then gapes ~10 % too wide). Each new edge gets
+// van Gelder's membrane stiffness instead (Approximate simulation of elastic
+// membranes by triangulated spring meshes, 1998): k = E t sum over its
+// triangles of A / |e|^2, exact for equilateral triangles, with this
+// lattice's E t = 8 K / 3.
+void SkinCutter::SetNewSpringStiffness(SkinMesh& skin) const {
+  const double et_N_per_m = 8.0 * skin.def.spring_k_N_per_m / 3.0;
+  for (const auto& [a, b] : new_springs_) {
+    double area_per_length2 = 0.0;
+    const Eigen::Vector3d pa = skin.model.x0_m.col(a), pb = skin.model.x0_m.col(b);
+    for (const std::uint32_t t : skin.topology.TrianglesOf(a)) {
+      const auto& v = skin.topology.TriangleVertices(t);
+      if (v[0] != b && v[1] != b && v[2] != b) continue;
+      const Eigen::Vector3d p0 = skin.model.x0_m.col(v[0]), p1 = skin.model.x0_m.col(v[1]),
+                            p2 = skin.model.x0_m.col(v[2]);
+      area_per_length2 += 0.5 * std::abs((p1 - p0).cross(p2 - p0).z()) / (pb - pa).squaredNorm();
+    }
+    const std::int32_t s = FindSpring(skin.model, static_cast<std::int32_t>(a), static_cast<std::int32_t>(b));
+    if (s != kNoSpring && area_per_length2 > 0.0)
+      skin.model.spring_k_N_per_m[static_cast<std::size_t>(s)] = et_N_per_m * area_per_length2;
+  }
 }
 
 void SkinCutter::RebuildWoundEdges(SkinMesh& skin) {

@@ -21,6 +21,8 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   if (!(d.spacing_m > 0.0 && d.length_m >= 2 * d.spacing_m && d.width_m >= 2 * d.spacing_m))
     throw std::invalid_argument("skin patch: spacing_m must be > 0 and at most half the patch length and width");
   if (!(d.areal_density_kg_per_m2 > 0.0)) throw std::invalid_argument("skin patch: areal density must be > 0");
+  if (!(d.prestrain >= 0.0 && d.prestrain < 0.5))
+    throw std::invalid_argument("skin patch: prestrain must be in [0, 0.5)");
   SkinMesh s;
   s.def = d;
   s.nx = static_cast<int>(std::lround(d.length_m / d.spacing_m)) + 1;
@@ -37,6 +39,7 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   m.node_damping_Ns_per_m = Eigen::VectorXd::Constant(n, d.node_damping_Ns_per_m);
   auto spring = [&](int a, int b, double k) {
     m.springs.push_back({a, b});
+    m.spring_rest_m.push_back((m.x0_m.col(a) - m.x0_m.col(b)).norm() * (1.0 - d.prestrain));
     m.spring_k_N_per_m.push_back(k);
     m.spring_c_Ns_per_m.push_back(d.spring_c_Ns_per_m);
   };
@@ -87,7 +90,43 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   s.lip_nodes.reserve(vcap);
   s.wound_edges.reserve(static_cast<std::size_t>(vcap) * 2);
   for (int v = 0; v < n; ++v) RelumpNodeMass(s, static_cast<std::uint32_t>(v));
+  s.hold_N = Eigen::Matrix3Xd::Zero(3, s.model.num_nodes);
+  UpdatePrestressHold(s);
   return s;
+}
+
+namespace {
+
+// A spring's pull on its node a (towards b) with both at rest.
+Eigen::Vector3d RestPullOnA(const MsmModel& m, std::size_t spring) {
+  const Eigen::Vector3d d = m.x0_m.col(m.spring_j[spring]) - m.x0_m.col(m.spring_i[spring]);
+  const double length = d.norm();
+  return (m.spring_k_N_per_m[spring] * (length - m.spring_rest_m[spring]) / length) * d;
+}
+
+}  // namespace
+
+void UpdatePrestressHoldOf(SkinMesh& s, std::uint32_t v) {
+  s.hold_N.col(v).setZero();
+  if (s.def.prestrain == 0.0) return;
+  const auto node = static_cast<std::int32_t>(v);
+  for (std::int32_t e = 0; e < s.model.DegreeOf(node); ++e) {
+    const auto k = static_cast<std::size_t>(s.model.SpringsOf(node)[e]);
+    const Eigen::Vector3d pull = RestPullOnA(s.model, k);
+    s.hold_N.col(v) -= s.model.spring_i[k] == node ? pull : Eigen::Vector3d(-pull);
+  }
+}
+
+void UpdatePrestressHold(SkinMesh& s) {
+  s.hold_N.setZero();
+  if (s.def.prestrain == 0.0) return;  // springs at rest length at rest pull nothing
+  const MsmModel& m = s.model;
+  for (std::int32_t k = 0; k < m.NumSprings(); ++k) {
+    const auto i = static_cast<std::size_t>(k);
+    const Eigen::Vector3d pull = RestPullOnA(m, i);
+    s.hold_N.col(m.spring_i[i]) -= pull;
+    s.hold_N.col(m.spring_j[i]) += pull;
+  }
 }
 
 void RelumpNodeMass(SkinMesh& s, std::uint32_t v) {

@@ -31,8 +31,11 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
   d.length_m = p.patch_length_m;
   d.width_m = p.patch_width_m;
   d.spacing_m = p.spacing_m;
-  d.spring_k_N_per_m = p.spring_stiffness_N_per_m;
-  d.bending_k_N_per_m = p.bending_stiffness_N_per_m;
+  // One material: the lattice is the membrane of E and t (nu = 1/3), and it
+  // carries the residual stress sigma_r = E eps_r as a uniform pre-stress.
+  d.spring_k_N_per_m = LatticeSpringStiffness_N_per_m(p.youngs_modulus_Pa, p.skin_thickness_m);
+  d.bending_k_N_per_m = 0.25 * d.spring_k_N_per_m;
+  d.prestrain = LatticePrestrainForStress(p.youngs_modulus_Pa * p.residual_strain, p.youngs_modulus_Pa);
   d.node_damping_Ns_per_m = p.damping_Ns_per_m;
   d.areal_density_kg_per_m2 = p.node_mass_kg / (p.spacing_m * p.spacing_m);
   d.min_node_mass_kg = 0.25 * p.node_mass_kg;  // a sliver of area must not make a node stiff for its mass
@@ -68,8 +71,9 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
       CriticalTimeStep_s(EstimateModeBounds(lightest, extra_k, p.contact_damping_Ns_per_m), kIntegrator);
   if (!(kSubstep_s <= 0.9 * std::min(critical_s, critical_light_s))) {
     std::ostringstream msg;
-    msg << "cutting: a 1 ms step is unstable for these parameters (critical step " << std::min(critical_s, critical_light_s)
-        << " s): raise 'node_mass_kg' or lower 'spring_stiffness_N_per_m', 'contact_stiffness_N_per_m', "
+    msg << "cutting: a 1 ms step is unstable for these parameters (critical step "
+        << std::min(critical_s, critical_light_s)
+        << " s): raise 'node_mass_kg' or lower 'youngs_modulus_Pa', 'contact_stiffness_N_per_m', "
            "'support_stiffness_N_per_m' or 'damping_Ns_per_m'";
     throw std::invalid_argument(msg.str());
   }
@@ -126,7 +130,8 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   UpdateBladeMesh(blade);
   // The tissue underneath holds every node at its rest height; contact adds to it.
   MsmState& st = skin_.state;
-  st.f_ext_N.topRows<2>().setZero();
+  // In the plane the skin's own tension, balanced where it lies (hold_N).
+  st.f_ext_N.topRows<2>() = skin_.hold_N.topRows<2>();
   st.f_ext_N.row(2) = -params_.support_stiffness_N_per_m * (st.x_m.row(2) - skin_.model.x0_m.row(2));
   loaded_nodes_.clear();
   colliding_.clear();
@@ -207,12 +212,31 @@ void CuttingScene::EndCut(const Eigen::Vector3d& where) {
 void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
   MsmState& st = skin_.state;
   const double k = params_.contact_stiffness_N_per_m;
+  // While cutting, the blade's edge parts the skin ahead of it (the drag law
+  // is that resistance) and its sides push the wound's lips apart, across
+  // the incision and into their own tissue. The skin between the wound's
+  // last committed point and the blade is cut already (the mesh catches up
+  // at the next segment): pushing it, or pushing along the incision, would
+  // wedge and plough it, folding its triangles.
+  Eigen::Vector3d along = Eigen::Vector3d::Zero();
+  if (cutting_ && curve_.Segments() > 0) {
+    const Eigen::Vector2d t = curve_.Tangent(curve_.Segments());
+    along = Eigen::Vector3d(t.x(), t.y(), 0.0);
+  }
   for (const std::uint32_t v : colliding_) {
+    if (cutting_ && !skin_.on_lip[v]) continue;
     const Eigen::Vector3d n = st.x_m.col(v), p = ClosestAxisPoint(blade, n);
     Eigen::Vector3d out = n - p;
     const double d = out.norm();
     if (!(d > 1e-12)) continue;
     out /= d;
+    out -= out.dot(along) * along;
+    // On the incision line the axis's side is a matter of rounding; a lip
+    // pushed across the wound folds its triangles.
+    if (cutting_) {
+      const Eigen::Vector3d into = IntoTissue(v);
+      if (out.dot(into) < 0.0) out -= 2.0 * out.dot(into) * into;
+    }
     const Eigen::Vector3d f = k * (blade.radius_m - d) * out;
     st.f_ext_N.col(v) += f;
     force_W_N_ -= f;
@@ -254,6 +278,19 @@ void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
     st.f_ext_N(2, nodes[static_cast<std::size_t>(a)]) -= weights[static_cast<std::size_t>(a)] * push;
     loaded_nodes_.push_back(nodes[static_cast<std::size_t>(a)]);
   }
+}
+
+// The in-plane unit normal from lip node v into its tissue (the wound edges
+// have their tissue on the left); zero if v has no wound edge.
+Eigen::Vector3d CuttingScene::IntoTissue(std::uint32_t v) const {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (const auto& [a, b] : skin_.wound_edges) {
+    if (a != v && b != v) continue;
+    const Eigen::Vector3d e = skin_.model.x0_m.col(b) - skin_.model.x0_m.col(a);
+    n += Eigen::Vector3d(-e.y(), e.x(), 0.0).normalized();
+  }
+  const double length = n.norm();
+  return length > 0.0 ? Eigen::Vector3d(n / length) : n;
 }
 
 // The device's model: pressing -> kContact on the plane under the tip,
@@ -327,6 +364,7 @@ void CuttingScene::Reset() {
   std::copy(initial_on_lip_.begin(), initial_on_lip_.end(), skin_.on_lip.begin());
   skin_.lip_nodes.clear();
   skin_.wound_edges.clear();
+  UpdatePrestressHold(skin_);
   curve_.Clear();
   cutting_ = false;
   in_contact_ = false;

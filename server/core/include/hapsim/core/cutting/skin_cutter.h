@@ -68,6 +68,8 @@ class SkinCutter {
   static void RebuildWoundEdges(SkinMesh& skin);
 
  private:
+  // Van Gelder's stiffness for the springs this cut added (new_springs_).
+  void SetNewSpringStiffness(SkinMesh& skin) const;
   struct ChainNode {
     std::uint32_t node = 0;
     double s = 0.0;        // curve parameter of its match
@@ -112,6 +114,7 @@ class SkinCutter {
   std::vector<Tri> new_triangles_;
   std::vector<std::uint32_t> lip_nodes_;            // lips_ -> node slots, once created
   std::vector<std::uint32_t> touched_;              // nodes to re-lump
+  std::vector<std::array<std::uint32_t, 2>> new_springs_;  // edges this cut gave a spring
   std::vector<std::uint8_t> touched_mark_;          // (vertex capacity)
   std::uint32_t planned_skips_ = 0;
 };

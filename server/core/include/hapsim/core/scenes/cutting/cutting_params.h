@@ -1,11 +1,14 @@
 // Parameters of the `cutting` scene (SceneSpec::params, SI, units in the
 // names): CuttingParamTable() declares each with its unit, range and
 // description; defaults are CuttingParams{} — the cutting paper's skin
-// (Table 1: K = 0.16 N/mm, E = 20 kPa, eps_r = 0.1; D lower, see below).
+// (Table 1: E = 20 kPa, eps_r = 0.1; D lower, see below). One material:
+// the springs are not a parameter but the membrane of E and the thickness
+// (K = 3 E t / 8 = 15 N/m, where Table 1's K = 0.16 N/mm would be a skin of
+// 213 kPa), and sigma_r = E eps_r is that membrane's pre-stress.
 //
 // Limits keep a cutting tick under a millisecond at the 99th percentile
-// (bench_cutting_tick: 10k nodes, mean 0.44 ms, p99 0.75 ms): at most
-// kMaxNodes grid nodes (docs/scene-limits.md).
+// (bench_cutting_tick: 10k nodes, docs/performance.md): at most kMaxNodes
+// grid nodes (docs/scene-limits.md).
 #pragma once
 #include <map>
 #include <string>
@@ -23,13 +26,11 @@ struct CuttingParams {
   double patch_width_m = 0.04;           // along y
   double spacing_m = 0.0008;             // grid spacing: 76 x 51 = 3876 nodes
   double skin_thickness_m = 0.002;       // t: the wound face area is t x edge length
-  double spring_stiffness_N_per_m = 160.0;   // K = 0.16 N/mm (Table 1), structural and shear
-  double bending_stiffness_N_per_m = 40.0;   // two-apart springs
   // D per node. Table 1's D = 3 N*s/m applied to each node of this 0.8 mm
   // grid makes the wound's opening a creep of seconds with no overshoot
   // (docs/validation.md#cutting); 0.1 N*s/m gives the paper's Fig. 6 shape.
   double damping_Ns_per_m = 0.1;
-  double node_mass_kg = 0.02;                // stability margin of the explicit 1 ms step
+  double node_mass_kg = 0.02;  // x14 000 real skin's: the explicit 1 ms step with the blade's damping
   // The tissue underneath: skin slides over it (a weak in-plane anchor per
   // node) but is held against pressing (a vertical support per node).
   double anchor_stiffness_N_per_m = 1.0;

@@ -14,14 +14,17 @@
 //     cutting/skin_cutter.h); the tool feels kCutting: a drag along the
 //     incision (cut_force_N, smoothed Coulomb, plus cut_damping_Ns_per_m),
 //     and the pressing law against going deeper (k and b from the rest
-//     surface z = 0, carried by the tissue underneath).
+//     surface z = 0, carried by the tissue underneath). The blade's sides
+//     push only the wound's lips, across the incision into their tissue.
 //   cutting ──tip above the surface, off the patch, or the tool gone──
 //     free (event cut_end, value = the incision's length).
 //
-// Residual stress sigma_r = E eps_r acts on the wound faces every tick
-// (ApplyResidualStress), so the wound gapes; node masses are lumped from an
-// areal density with interior nodes of node_mass_kg (docs/validation.md on
-// why m > D^2/4K).
+// One material: the springs are the membrane of E and t (skin_mesh.h), and
+// the skin carries sigma_r = E eps_r as a uniform pre-stress, balanced where
+// it lies; a cut frees the wound's faces of it (ApplyResidualStress gives
+// them the released traction every tick), so the wound gapes while the
+// lips keep their tension along the cut. Node masses are lumped from an
+// areal density with interior nodes of node_mass_kg (docs/validation.md).
 //
 // Mesh: vertex slot = MSM node (skin and the nodes cuts add), plus eight
 // fixed slots for the blade; parts "skin", "wound" (triangles a cut made),
@@ -80,6 +83,7 @@ class CuttingScene final : public Scene {
   void UpdateCut(const ToolInput& tool, const Cylinder& blade);
   void EndCut(const Eigen::Vector3d& where);
   void ApplyContact(const ToolInput& tool, const Cylinder& blade);
+  Eigen::Vector3d IntoTissue(std::uint32_t lip_node) const;
   void UpdateForceModel(const ToolInput& tool);
   void UpdateBladeMesh(const Cylinder& blade);
   void Log(SceneEventKind kind, const Eigen::Vector3d& where, double value = 0.0);
