@@ -21,6 +21,8 @@ core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m) {
   c.drag_damping_Ns_per_m = m.drag_damping_ns_per_m;
   c.stick_W_m = {m.stick_m[0], m.stick_m[1], m.stick_m[2]};
   c.stick_stiffness_N_per_m = m.stick_stiffness_n_per_m;
+  c.tip_anchor_W_m = {m.tip_anchor_m[0], m.tip_anchor_m[1], m.tip_anchor_m[2]};
+  c.tip_stiffness_N_per_m = m.tip_stiffness_n_per_m;
   return c;
 }
 

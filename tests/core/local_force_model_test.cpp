@@ -67,6 +67,28 @@ TEST(LocalForceModel, PuncturedShaftSticksBelowTheCoulombLevelAndSlipsAtIt) {
   EXPECT_EQ(EvaluateLocalForce(m, {0, 0, -0.01 + 1e-3}, still).z(), 0.0);
 }
 
+// With the needle through one layer and its tip on the next, that layer is a
+// half-space across the axis: it pushes out along the axis by its stiffness
+// times how far the tip is past its surface, and never pulls.
+TEST(LocalForceModel, PuncturedTipPressingTheNextLayerIsASpringAlongTheAxisThatNeverPulls) {
+  LocalForceModel m;
+  m.state = ContactState::kPunctured;
+  m.normal_W = Eigen::Vector3d(1, 0, 1).normalized();  // out of the tissue, tilted
+  m.tip_anchor_W_m = {0.0, 0.0, -0.01};
+  m.tip_stiffness_N_per_m = 250.0;
+  const Eigen::Vector3d still = Eigen::Vector3d::Zero();
+  const Eigen::Vector3d deeper = m.tip_anchor_W_m - 2e-4 * m.normal_W;
+  const Eigen::Vector3d f = EvaluateLocalForce(m, deeper, still);
+  EXPECT_NEAR(f.dot(m.normal_W), 250.0 * 2e-4, 1e-15);
+  EXPECT_NEAR((f - f.dot(m.normal_W) * m.normal_W).norm(), 0.0, 1e-15);  // along the axis only
+  // Sideways on the surface's plane: the same depth, the same push.
+  const Eigen::Vector3d across = Eigen::Vector3d(1, 0, -1).normalized();
+  EXPECT_NEAR(EvaluateLocalForce(m, deeper + 1e-3 * across, still).dot(m.normal_W), 250.0 * 2e-4, 1e-15);
+  EXPECT_EQ(EvaluateLocalForce(m, m.tip_anchor_W_m + 2e-4 * m.normal_W, still).norm(), 0.0);  // short of it
+  m.tip_stiffness_N_per_m = 0.0;                                                              // the tip presses nothing
+  EXPECT_EQ(EvaluateLocalForce(m, deeper, still).norm(), 0.0);
+}
+
 // A negative or NaN Coulomb level from the wire is no friction at all (not
 // a crossed clamp, not a drag that pushes along the motion).
 TEST(LocalForceModel, ANegativeOrNanCoulombLevelGivesNoFriction) {

@@ -27,7 +27,9 @@ void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
     out.tool_force_n[i] = in.tool_force_W_N[i];
     out.drag_direction[i] = in.model.drag_direction_W[i];
     out.stick_m[i] = in.model.stick_W_m[i];
+    out.tip_anchor_m[i] = in.model.tip_anchor_W_m[i];
   }
+  out.tip_stiffness_n_per_m = in.model.tip_stiffness_N_per_m;
   out.stick_stiffness_n_per_m = in.model.stick_stiffness_N_per_m;
   out.drag_n = in.model.drag_N;
   out.drag_damping_ns_per_m = in.model.drag_damping_Ns_per_m;

@@ -44,7 +44,8 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
       const Eigen::Vector3d r = x - m.anchor_W_m;
       const Eigen::Vector3d lateral = r - r.dot(n) * n;
       const double stick_N = std::clamp(m.stick_stiffness_N_per_m * (x - m.stick_W_m).dot(n), -coulomb_N, coulomb_N);
-      return m.feedforward_W_N - m.stiffness_N_per_m * lateral - (m.damping_Ns_per_m * v.dot(n) + stick_N) * n;
+      const double tip_N = std::max(0.0, m.tip_stiffness_N_per_m * (m.tip_anchor_W_m - x).dot(n));
+      return m.feedforward_W_N - m.stiffness_N_per_m * lateral - (m.damping_Ns_per_m * v.dot(n) + stick_N - tip_N) * n;
     }
   }
   return m.feedforward_W_N;

@@ -276,9 +276,18 @@ void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen
       m.stick_W_m = stick_W_m_;
       m.stick_stiffness_N_per_m = params_.shaft_stick_stiffness_N_per_m;
     }
-    if (pressing_) {  // a deeper surface pushes back: feed it forward
+    if (pressing_) {
+      // The tip presses the next layer: its net's tangent stiffness along the
+      // axis (capped as for a first touch), with the surface placed so the
+      // law gives the net's push at this tip; what is across the axis rides
+      // along as feed-forward.
       const auto i = static_cast<std::size_t>(punctured_);
-      m.feedforward_W_N = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+      const Eigen::Vector3d push = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+      const double along_N = std::max(0.0, push.dot(m.normal_W));
+      m.tip_stiffness_N_per_m = std::min(std::max(NetStiffnessAtDepth_N_per_m(nets_[i], net_states_[i].depth_m), 1.0),
+                                         params_.render_stiffness_max_N_per_m);
+      m.tip_anchor_W_m = tip + (along_N / m.tip_stiffness_N_per_m) * m.normal_W;
+      m.feedforward_W_N = push - along_N * m.normal_W;
     }
   } else if (pressing_) {
     const ForceNetModel& net = nets_[0];

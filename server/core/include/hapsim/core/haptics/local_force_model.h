@@ -39,6 +39,11 @@ struct LocalForceModel {
   // stick point each tick). Nonzero with the needle at rest.
   Eigen::Vector3d stick_W_m = Eigen::Vector3d::Zero();
   double stick_stiffness_N_per_m = 0.0;  // 0: no Coulomb friction (the paper's viscous law)
+  // kPunctured only: the next layer under the tip, a half-space across the
+  // axis at tip_anchor_W_m pushing out along the axis (0: the tip presses
+  // nothing).
+  Eigen::Vector3d tip_anchor_W_m = Eigen::Vector3d::Zero();
+  double tip_stiffness_N_per_m = 0.0;
 };
 
 // Speed at which the smoothed Coulomb drag reaches tanh(1) = 76 % of drag_N
@@ -54,6 +59,7 @@ inline constexpr double kDragSmoothingSpeed_m_per_s = 0.002;
 //  kPunctured: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
 //              F = f_ff - k d - b (v·n) n
 //                  - clamp(k_stick (x - stick)·n, ±drag_N) n   (stick-slip friction)
+//                  + max(0, k_tip (tip_anchor - x)·n) n        (the next layer under the tip)
 //  kCutting:   the kContact law on (anchor, n, k, b), plus the drag along t,
 //              v_t = v·t: F_t = -(drag_N tanh(v_t / v_s) + drag_damping v_t) t
 //              with v_s = kDragSmoothingSpeed_m_per_s

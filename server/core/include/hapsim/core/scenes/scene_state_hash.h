@@ -26,7 +26,8 @@ inline void AddToHash(StateHasher& h, const LocalForceModel& m) {
       .Add(m.feedforward_W_N);
   // Only a cutting model has drag (the other scenes' golden hashes stay as pinned).
   if (m.state == ContactState::kCutting) h.Add(m.drag_direction_W).Add(m.drag_N).Add(m.drag_damping_Ns_per_m);
-  if (m.state == ContactState::kPunctured) h.Add(m.drag_N).Add(m.stick_W_m).Add(m.stick_stiffness_N_per_m);
+  if (m.state == ContactState::kPunctured)
+    h.Add(m.drag_N).Add(m.stick_W_m).Add(m.stick_stiffness_N_per_m).Add(m.tip_anchor_W_m).Add(m.tip_stiffness_N_per_m);
 }
 
 // Never allocates (ForceModel() returns a fixed-size value).

@@ -26,9 +26,10 @@
 // N1, stiffness = the net's tangent stiffness K Σ g (capped for the device),
 // anchor chosen so the law reproduces the physics force at the current tip;
 // after skin puncture → kPunctured (tunnel: lateral spring to the entry axis,
-// axial damping b, feed-forward = the surface force of a deeper layer being
-// pressed). EvaluateLocalForce at the current tip and velocity reproduces
-// ToolForce_W_N().
+// axial damping b, stick-slip shaft friction, and a deeper layer being
+// pressed as a half-space across the axis with its net's tangent stiffness,
+// the rest of its push fed forward). EvaluateLocalForce at the current tip
+// and velocity reproduces ToolForce_W_N().
 //
 // Mesh: three square patches of the skin/fat/muscle surfaces around the
 // site (radially displaced by their nets) and a needle, parts "skin", "fat",
