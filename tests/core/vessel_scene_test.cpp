@@ -219,6 +219,38 @@ TEST(VesselScene, ALightTouchThatComesAndGoesIsOneContactNotAStorm) {
               ticks_without_force);
 }
 
+TEST(VesselScene, PressedPastTheFlattenedVeinTheProbeNeverEndsInsideIt) {
+  // 6 mm down at 10 mm/s, 0.7 mm off the crest, into a vein 3.3 mm across on
+  // what lies under it, and back up: the probe stops where the flattened
+  // walls lie on the bed (it used to slip through the wall at 4.4 mm and
+  // lift the vein by its lumen on the way up, pulling the tool down).
+  // With and without the skin: one contact, one end, never a pull.
+  for (const int skin : {0, 1}) {
+    VesselParams params;
+    params.skin = skin;
+    VesselScene scene(params);
+    const double x = scene.Geometry().centreline_m(0, scene.Geometry().stations / 2) + 1.1e-3;
+    std::vector<double> path;
+    for (double z = 2e-3; z > -6e-3; z -= 1e-5) path.push_back(z);
+    for (double z = -6e-3; z < 2e-3; z += 1e-5) path.push_back(z);
+    double lowest_tip_m = 1.0, most_negative_N = 0.0;
+    for (const double z : path) {
+      scene.Step(TipAt(x, 0.7e-3, z), kTick_s);
+      lowest_tip_m = std::min(lowest_tip_m, scene.PhysicsTip_W_m().z());
+      most_negative_N = std::min(most_negative_N, scene.ToolForce_W_N().z());
+    }
+    for (int tick = 0; tick < 40; ++tick) scene.Step(TipAt(x, 0.7e-3, 2e-3), kTick_s);
+    const double bed_z_m = scene.Geometry().nodes_m.row(2).minCoeff();
+    std::printf("skin %d: lowest physics tip %.3f mm above the bed, most downward force %.4f N, %llu events\n", skin,
+                1e3 * (lowest_tip_m - bed_z_m), most_negative_N, static_cast<unsigned long long>(scene.EventsTotal()));
+    ASSERT_EQ(scene.EventsTotal(), 2u) << "skin " << skin;
+    EXPECT_EQ(scene.Events()[0].kind, SceneEventKind::kContactBegin);
+    EXPECT_EQ(scene.Events()[1].kind, SceneEventKind::kContactEnd);
+    EXPECT_GE(most_negative_N, -1e-3) << "skin " << skin;  // the wall never pulls the probe in
+    EXPECT_NEAR(lowest_tip_m - bed_z_m, params.probe_radius_m + 2 * 0.4e-3, 1e-12);  // the two 0.4 mm walls
+  }
+}
+
 TEST(VesselScene, AnUnstableStepIsRefusedNamingTheParameters) {
   try {
     VesselScene scene(ParseVesselParams({{"mass_scale", 1.0}, {"substeps", 1}}));

@@ -33,6 +33,6 @@ cd "$build"
 # curve (0.4 s in release, 10-60 s under ASan), so the tests that build many
 # vessels or press 2 mm deep (1-4 min each here) are left out too.
 slow='Meshless\.UniaxialTension|SceneContract\..*vessel|EveryScene\..*vessel|SceneParams\..*vessel'
-slow+='|VesselScene\.(EveryShapeBuilds|PressedTwoMillimetres|ALateTicksJump|TheDeviceIsAsStiff|ALightTouch)'
+slow+='|VesselScene\.(EveryShapeBuilds|PressedTwoMillimetres|ALateTicksJump|TheDeviceIsAsStiff|ALightTouch|PressedPastTheFlattenedVein)'
 ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|service|device-bridge|client-viewer)$' \
     -E "$slow"

@@ -118,6 +118,15 @@ ParamTable<VesselParams> MakeVesselTable() {
             .description =
                 "E of the tissue around and over the vessel, an elastic foundation on the outer wall (0: none)"},
            &P::tissue_modulus_Pa)
+      .Add({.name = "skin",
+            .unit = "code",
+            .min = -1,
+            .max = 1,
+            .integer = true,
+            .description = "the skin and subcutis the probe indents, in parallel with the vessel (-1: the shape's "
+                           "default, on for the straight vein)",
+            .choices = {"the shape's default", "off", "on"}},
+           &P::skin)
       .Add({.name = "tissue_depth_m",
             .unit = "m",
             .min = 0,

@@ -10,6 +10,7 @@
 #include "hapsim/core/cutting/cylinder_collision.h"
 #include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/scenes/scene_builders.h"
+#include "hapsim/core/scenes/vessel/skin_indentation.h"
 
 namespace hapsim::core {
 namespace {
@@ -23,6 +24,8 @@ constexpr double kMinRenderStiffness_N_per_m = 10.0;
 // without force; meanwhile the device keeps the last contact
 // plane (fixed in space), so it renders the surface, not a buzz.
 constexpr int kContactEndTicks = 30;
+// The skin and subcutis as an incompressible solid (skin_indentation.h).
+constexpr double kTissuePoissonRatio = 0.5;
 // The settled curve: samples per curve, and how a sample settles (the
 // force changes by less than this fraction over a window of ticks).
 constexpr int kCurveSamples = 25;
@@ -95,6 +98,8 @@ VesselScene::VesselScene(const VesselParams& params)
 
   kind_ = static_cast<VesselModel>(params_.model);
   outer_radius_m_ = def.lumen_radius_m + def.wall_thickness_m;
+  skin_on_ = params_.skin == 1 || (params_.skin == -1 && def.shape == VesselShape::kStraight);
+  skin_top_z_m_ = geometry_.nodes_m.row(2).maxCoeff();
   std::vector<DistanceConstraint> stretch;
   BuildLattice(spacing_m, stretch);
   BuildFoundation(def);
@@ -145,6 +150,7 @@ VesselScene::VesselScene(const VesselParams& params)
   contact_lambda_.assign(static_cast<std::size_t>(model_.n), 0.0);
 
   bed_z_m_ = geometry_.nodes_m.row(2).minCoeff();
+  probe_floor_z_m_ = bed_z_m_ + params_.probe_radius_m + 2.0 * def.wall_thickness_m;
   surface_map_ = BuildMlsSurfaceMap(geometry_.nodes_m, geometry_.surface_m, m.support_radius_m);
   F_.assign(static_cast<std::size_t>(model_.n), Eigen::Matrix3d::Identity());
   surface_m_ = geometry_.surface_m;
@@ -359,6 +365,10 @@ void VesselScene::Step(const ToolInput& tool, double dt_s) {
       const Eigen::Vector3d to_device = tool.tip_W_m - tip_W_m_;
       const double gap_m = to_device.norm();
       tip_W_m_ += gap_m > kMaxTipTravelPerStep_m ? (kMaxTipTravelPerStep_m / gap_m) * to_device : to_device;
+      // What lies under the vessel stops the probe where the flattened
+      // vessel's two walls lie on it: deeper, the wall would have to pass
+      // through the sphere (it did: the probe ended in the lumen).
+      tip_W_m_.z() = std::max(tip_W_m_.z(), probe_floor_z_m_);
     }
     if (!Advance(tool_ok, h_s)) {
       RecoverFromBlowup();
@@ -369,7 +379,14 @@ void VesselScene::Step(const ToolInput& tool, double dt_s) {
   UpdateOutputs(tool, tool_ok);
 }
 
+double VesselScene::SkinForce_N(const Eigen::Vector3d& tip_W_m) const {
+  if (!skin_on_) return 0.0;
+  const double depth_m = skin_top_z_m_ - (tip_W_m.z() - params_.probe_radius_m);
+  return SkinIndentationForce_N(depth_m, params_.probe_radius_m, params_.tissue_modulus_Pa, kTissuePoissonRatio);
+}
+
 void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
+  if (tool_ok) tool_force_W_N_.z() += SkinForce_N(tip_W_m_);
   const double force_N = tool_force_W_N_.norm();
   const bool touching = tool_ok && force_N > 0.0;
   ticks_without_force_ = touching ? 0 : ticks_without_force_ + 1;

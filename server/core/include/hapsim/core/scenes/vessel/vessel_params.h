@@ -82,6 +82,14 @@ struct VesselParams {
   // outer radius. 0: no foundation (the bare tube on its bed).
   double tissue_modulus_Pa = 69e3;
   double tissue_depth_m = 0.0;
+  // The skin and subcutis the probe itself indents over and beside the
+  // vessel, in parallel with the vessel under it: an elastic half-space of
+  // the same tissue (E_t, incompressible) whose surface is the level plane
+  // through the vessel's top, pressed by the probe's sphere (Hertz) and,
+  // once the sphere is in, by its shaft (a flat punch of the same radius;
+  // the force and its slope are continuous). 1 on, 0 off, -1 the shape's
+  // default (on for the straight hand vein, which lies under the skin).
+  int skin = -1;
   // Blood pressure in the lumen [Pa], on the inner wall (a follower load
   // along the current normals); the wall is inflated to it at build and
   // resets to that state. A hand vein at heart level: ~0.7 kPa (7.2 cmH2O);

@@ -19,11 +19,14 @@
 //  3. velocities from the corrected positions.
 // The tip the physics sees moves at most kMaxTipTravelPerStep_m per step
 // toward the device's: a late tick's jump is spread over the next steps
-// instead of hitting the scaled masses at once.
+// instead of hitting the scaled masses at once; it never goes below where
+// the vessel's two flattened walls would lie on the bed.
 // The display surface (outer wall and lumen) follows the nodes through the
 // MLS map (meshless/mls_surface_map.h), precomputed at rest.
 //
-// Force on the device: the sum of the contact forces on the tool, rendered by
+// Force on the device: the sum of the contact forces on the tool, plus the
+// skin over the vessel (VesselParams::skin: a half-space of the tissue the
+// probe indents, in parallel, skin_indentation.h), rendered by
 // the bridge as a contact plane through the tip along that force, with the
 // stiffness of the wall's settled force-depth curve at the tip's depth
 // (vessel_settled_curve.h: the same scene pressed quasi-statically at build).
@@ -84,6 +87,8 @@ class VesselScene final : public Scene {
   double MassScale() const { return mass_scale_; }  // the one in use (automatic when the parameter is 0)
   // The wall pressed at build: what the device's stiffness is taken from.
   const VesselSettledCurve& SettledCurve() const { return settled_curve_; }
+  // The skin's push on the probe at this tip [N, along +z] (0 with no skin).
+  double SkinForce_N(const Eigen::Vector3d& tip_W_m) const;
   // Where the physics' tip is (it follows the device's at a bounded travel per step).
   const Eigen::Vector3d& PhysicsTip_W_m() const { return tip_W_m_; }
   // The probe's depth into the undeformed wall [m]: how far the tip sphere
@@ -118,6 +123,10 @@ class VesselScene final : public Scene {
   VesselParams params_;
   VesselGeometry geometry_;
   double outer_radius_m_ = 0.0;
+  // The skin's surface: the level plane through the vessel's top at rest
+  // (VesselParams::skin); NaN: no skin.
+  double skin_top_z_m_ = 0.0;
+  bool skin_on_ = false;
   MeshlessModel model_;
   MlsSurfaceMap surface_map_;
   VesselModel kind_ = VesselModel::kMeshlessXpbd;
@@ -132,6 +141,7 @@ class VesselScene final : public Scene {
   std::vector<double> tether_compliance_m_per_N_;
   UniformGrid rest_grid_;  // rest positions: contact candidates
   double bed_z_m_ = 0.0;      // the vessel lies on a rigid plane at its lowest rest point
+  double probe_floor_z_m_ = 0.0;  // the physics tip stays above: the bed + the probe + the flattened walls
   double mass_scale_ = 1.0;
   double lumen_outward_sign_ = 1.0;  // orients the inner wall's tangent cross product out of the lumen
   VesselSettledCurve settled_curve_;
