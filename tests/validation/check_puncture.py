@@ -104,7 +104,7 @@ def main(out):
         k = next(k for k, f in enumerate(forces) if f >= fp)
         dp = depths_mm[k - 1] + (fp - forces[k - 1]) / (forces[k] - forces[k - 1]) * (depths_mm[k] - depths_mm[k - 1])
         puncture_depth_mm.append(dp)
-        print(f"     {name}: puncture force {fp} N reached at {dp:.4f} mm of indentation")
+        print(f"     {name}: puncture force {fp} N reached at {dp:.6f} mm of indentation")
     check(2.0 <= puncture_depth_mm[0] <= 6.0, f"skin indents {puncture_depth_mm[0]:.3f} mm before it gives way (2-6 mm)")
 
     rows = list(csv.DictReader(open(f"{out}/punctures.csv")))
