@@ -1,21 +1,22 @@
 // hapsim-ctl: the session-control RPCs from a shell — what an instructor's
 // panel does: list/create/close sessions, pause/resume/reset, export a mesh
 // snapshot, submit and read scores, check server health.
+#include <grpcpp/generic/generic_stub.h>
+#include <grpcpp/grpcpp.h>
+#include <unistd.h>
+
 #include <condition_variable>
 #include <cstdio>
-#include <deque>
-#include <unistd.h>
-#include <mutex>
 #include <cstdlib>
-#include <sstream>
+#include <deque>
 #include <map>
+#include <mutex>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
-#include <grpcpp/generic/generic_stub.h>
-#include <grpcpp/grpcpp.h>
-
+#include "hapsim/common/flags.h"
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/viewer/connection.h"
 #include "hapsim/viewer/mesh_cache.h"
@@ -182,6 +183,10 @@ int Watch(hapsim::v1::SessionService::Stub& stub, const std::string& token, cons
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.size() == 1 && args[0] == "--version") {
+    std::fputs(hapsim::common::VersionLine("hapsim-ctl").c_str(), stdout);
+    return 0;
+  }
   hapsim::viewer::Connection connection;
   hapsim::viewer::ConnectionFlags connection_flags;
   double timeout_s = 10.0;

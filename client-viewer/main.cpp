@@ -121,6 +121,9 @@ int main(int argc, char** argv) {
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
     case hapsim::common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case hapsim::common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
     case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str()); return 2;
     case hapsim::common::Flags::Result::kOk: break;
   }

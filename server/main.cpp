@@ -111,6 +111,9 @@ int main(int argc, char** argv) {
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
     case hapsim::common::Flags::Result::kHelp: PrintHelp(flags); return 0;
+    case hapsim::common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
     case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
     case hapsim::common::Flags::Result::kOk: break;
   }

@@ -68,6 +68,9 @@ int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessF
   std::string error;
   switch (flags.Parse(argc, argv, &error)) {
     case common::Flags::Result::kHelp: std::fputs(flags.Help().c_str(), stdout); return 0;
+    case common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
     case common::Flags::Result::kError: std::fprintf(stderr, "%s: %s\n", program, error.c_str()); return 2;
     case common::Flags::Result::kOk: break;
   }

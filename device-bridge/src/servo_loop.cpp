@@ -56,8 +56,11 @@ bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {
   std::fprintf(f, "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
                   "echo_pose_seq,model_state,watchdog,phase\n");
   for (const auto& r : rows) {
-    std::fprintf(f, "%.6f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s\n",
-                 r.t_s, r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
+    // t_s to the nanosecond: after a late tick the servo catches up with
+    // wakes microseconds apart, which 6 decimals would write as one time
+    // (and the replay backend needs them increasing).
+    std::fprintf(f, "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s\n", r.t_s,
+                 r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
                  r.orientation_W.y(), r.orientation_W.z(), r.force_W_N.x(), r.force_W_N.y(), r.force_W_N.z(),
                  r.requested_W_N.x(), r.requested_W_N.y(), r.requested_W_N.z(), r.model_age_ms,
                  static_cast<unsigned long long>(r.echo_pose_seq), static_cast<unsigned>(r.model_state),

@@ -1,10 +1,14 @@
-#include <cmath>
-#include <cstring>
-
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
 
 #include "backends/replay_device.h"
 #include "backends/synthetic_device.h"
+#include "hapsim/bridge/servo_loop.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -112,6 +116,29 @@ TEST(ReplayDevice, InterpolatesBetweenRowsAndHoldsAtTheEnd) {
   const auto end = d.Read(1.0);
   EXPECT_TRUE(end.finished);
   EXPECT_NEAR(end.tip_W_m.x(), 0.002, 1e-12);
+}
+
+// `hapsim-bridge --trace` says its trace replays: after a late tick the
+// servo's catch-up wakes come microseconds apart, and the trace must still
+// load (it wrote 6 decimals and repeated times) and replay those poses.
+TEST(ReplayDevice, ATraceWithCatchUpTicksMicrosecondsApartReplays) {
+  std::vector<TraceRow> rows;
+  const double times_s[] = {1.000000, 1.0020001, 1.0020004, 1.0020008, 1.003};  // a late tick, then catch-up
+  for (int k = 0; k < 5; ++k)
+    rows.push_back({times_s[k], Eigen::Vector3d(0.0, 0.0, -1e-4 * k), Eigen::Quaterniond::Identity(),
+                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), -1.0, 0, "press", 0, WatchdogState::kNoModel});
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("hapsim_trace_" + std::to_string(::getpid()) + ".csv")).string();
+  ASSERT_TRUE(WriteTraceCsv(path, rows));
+  const std::vector<PoseLogRow> log = LoadPoseLog(path);
+  std::remove(path.c_str());
+  ASSERT_EQ(log.size(), 5u);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(log[static_cast<std::size_t>(k)].t_s, times_s[k], 1e-9);
+    EXPECT_NEAR(log[static_cast<std::size_t>(k)].tip_W_m.z(), -1e-4 * k, 1e-12);
+  }
+  ReplayDevice replay(log);
+  EXPECT_NEAR(replay.Read(0.0020004).tip_W_m.z(), -2e-4, 1e-9);  // the second catch-up pose, on time
 }
 
 TEST(ReplayDevice, MalformedLogsNameTheLine) {

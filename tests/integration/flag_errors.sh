@@ -82,6 +82,7 @@ for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer; do
 done
 for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate; do
   expect 0 "usage: $prog" bash -c '"$0" --help >&2' "$bin/$prog"
+  expect 0 "^$prog [0-9]*\.[0-9]*\.[0-9]*$" bash -c '"$0" --version >&2' "$bin/$prog"
 done
 expect 2 "bad value 'abc' for --seconds (see --help)" "$bin/hapsim-bridge" --seconds abc
 expect 2 "bad value '5x' for --frame-rate-hz (see --help)" "$bin/hapsim-server" --frame-rate-hz 5x

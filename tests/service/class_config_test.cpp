@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "hapsim/service/access_policy.h"
+#include "hapsim/service/errors.h"
+
 namespace hapsim::service {
 namespace {
 
@@ -51,6 +54,23 @@ TEST(ClassConfig, AGoodConfigParsesIntoClassesAndTokens) {
 }
 
 // FIPS 180-2 test vector: SHA-256("abc").
+// HTTP's auth schemes are case-insensitive (RFC 9110 11.1) and the token
+// follows one or more spaces: any spelling of "Bearer" lets alice in; a
+// wrong scheme, no token or a wrong token does not.
+TEST(ClassConfig, TheBearerSchemeIsReadInAnyCaseAndOnlyTheRightTokenGetsIn) {
+  const AccessPolicy policy(ParseClassConfig(kGood, "good.toml"));
+  for (const std::string scheme : {"Bearer ", "bearer ", "BEARER ", "bEaReR   "}) {
+    const std::string value = scheme + "alice-secret-0123456789";
+    const auto who = policy.Authenticate(&value);
+    ASSERT_TRUE(who.has_value()) << value;
+    EXPECT_EQ(who->name, "alice") << value;
+  }
+  for (const std::string bad : {"Basic alice-secret-0123456789", "Bearer", "Bearer ", "Beareralice-secret-0123456789",
+                                "Bearer alice-secret-012345678", "Token alice-secret-0123456789"}) {
+    EXPECT_THROW(policy.Authenticate(&bad), ServiceError) << bad;
+  }
+}
+
 TEST(ClassConfig, Sha256MatchesTheStandardTestVector) {
   EXPECT_EQ(Sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
 }

@@ -50,10 +50,13 @@ void Flags::Add(const std::string& name, bool* value, const std::string& help) {
                     }});
 }
 
+std::string VersionLine(const std::string& program) { return program + " " + HAPSIM_VERSION + "\n"; }
+
 Flags::Result Flags::Parse(int argc, char** argv, std::string* error) {
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") return Result::kHelp;
+    if (arg == "--version") return Result::kVersion;
     if (arg.rfind("--", 0) != 0) {
       *error = "unexpected argument '" + arg + "' (flags start with --; see --help)";
       return Result::kError;

@@ -1,6 +1,8 @@
 #include "hapsim/service/access_policy.h"
 
 #include <algorithm>
+#include <cctype>
+#include <string_view>
 
 #include "hapsim/service/errors.h"
 
@@ -46,12 +48,19 @@ std::optional<Principal> AccessPolicy::Authenticate(const std::string* authoriza
     return ServiceError(ErrorCode::kUnauthenticated, why);
   };
   if (!authorization) throw refuse("this server needs a token: send metadata 'authorization: Bearer TOKEN'");
-  constexpr std::string_view kBearer = "Bearer ";
-  if (authorization->size() > 4096 || authorization->compare(0, kBearer.size(), kBearer) != 0 ||
-      authorization->size() == kBearer.size()) {
+  // "Bearer", any case (HTTP's auth schemes are case-insensitive, RFC 9110
+  // 11.1), then one or more spaces, then the token.
+  const std::string_view value(*authorization);
+  constexpr std::string_view kScheme = "bearer";
+  const bool scheme_ok = value.size() > kScheme.size() && value[kScheme.size()] == ' ' &&
+                         std::equal(kScheme.begin(), kScheme.end(), value.begin(), [](char want, char got) {
+                           return want == std::tolower(static_cast<unsigned char>(got));
+                         });
+  const std::size_t token_at = scheme_ok ? value.find_first_not_of(' ', kScheme.size()) : std::string_view::npos;
+  if (value.size() > 4096 || token_at == std::string_view::npos) {
     throw refuse("malformed authorization metadata: expected 'Bearer TOKEN'");
   }
-  const auto found = by_hash_.find(Sha256Hex(std::string_view(*authorization).substr(kBearer.size())));
+  const auto found = by_hash_.find(Sha256Hex(value.substr(token_at)));
   if (found == by_hash_.end()) throw refuse("unknown token");
   const TokenDef& t = *found->second;
   Principal p;

@@ -92,6 +92,11 @@ void ScoreBook::Describe(const std::string& id, const Sheets& sheets, hapsim::v1
   out->set_scheme(SchemeName(scheme));
 }
 
+bool ScoreBook::Scored(const std::string& session_id) const {
+  std::lock_guard lock(mutex_);
+  return sheets_.count(session_id) > 0;
+}
+
 void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
                        const std::function<bool(const std::string&)>& visible) const {
   std::lock_guard lock(mutex_);

@@ -1,12 +1,13 @@
 #include "hapsim/service/session_service.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 
-#include <spdlog/spdlog.h>
-
+#include "hapsim/core/assessment/scoring.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/dds/partition.h"
 #include "hapsim/service/class_status.h"
@@ -260,9 +261,17 @@ Status SessionServiceImpl::GetScores(grpc::ServerContext* context, const hapsim:
                                      hapsim::v1::ScoreReport* out) {
   return Guarded("GetScores", [&] {
     const auto who = Caller(context);
-    if (!req->session_id().empty()) policy_->Authorize(who, Action::kView, req->session_id());
-    scores_->Report(req->session_id(), out,
-                    [&](const std::string& id) { return policy_->Allows(who, Action::kView, id); });
+    const std::string& id = req->session_id();
+    if (!id.empty()) policy_->Authorize(who, Action::kView, id);
+    // A session that exists (live, or in a class) but nobody has scored yet
+    // has an empty report; NOT_FOUND is for sessions that do not exist.
+    if (!id.empty() && !scores_->Scored(id)) {
+      if (!registry_->Find(id) && !policy_->ClassOf(id))
+        throw ServiceError(ErrorCode::kNotFound, "no session '" + id.substr(0, 80) + "' (and no scores for it)");
+      out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
+      return;
+    }
+    scores_->Report(id, out, [&](const std::string& other) { return policy_->Allows(who, Action::kView, other); });
   });
 }
 

@@ -10,6 +10,9 @@
 
 namespace hapsim::common {
 
+// "PROGRAM VERSION\n", the project's version (CMake's project() VERSION).
+std::string VersionLine(const std::string& program);
+
 class Flags {
  public:
   Flags(std::string program, std::string summary);
@@ -19,11 +22,12 @@ class Flags {
   void Add(const std::string& name, int* value, const std::string& help);
   void Add(const std::string& name, bool* value, const std::string& help);  // switch
 
-  enum class Result { kOk, kHelp, kError };
-  // On kHelp the caller prints Help() and exits 0; on kError, *error says what
-  // was wrong and the caller exits 2.
+  enum class Result { kOk, kHelp, kVersion, kError };
+  // On kHelp the caller prints Help() and exits 0, on kVersion Version(); on
+  // kError, *error says what was wrong and the caller exits 2.
   Result Parse(int argc, char** argv, std::string* error);
   std::string Help() const;
+  std::string Version() const { return VersionLine(program_); }
 
  private:
   struct Flag {

@@ -52,6 +52,7 @@ class ScoreBook {
   // visible is empty); otherwise just that one (kNotFound if unscored).
   void Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
               const std::function<bool(const std::string&)>& visible = {}) const;
+  bool Scored(const std::string& session_id) const;  // has at least one sheet
 
   struct Summary {
     std::uint32_t experts = 0;
