@@ -97,19 +97,28 @@ continuum_row = next(csv.DictReader(open(f"{out}/static_continuum.csv")))
 traction = float(continuum_row["residual_stress_Pa"]) * float(continuum_row["thickness_m"])
 
 
-def residual_and_jacobian(x):
-    """Net force on every node (2n) and its derivative (the stiffness, negated)."""
+def net_force(x):
+    """Net force on every node (n x 2): springs, anchors, the hold, the faces' traction as they lie."""
     d = x[sj] - x[si]
     L = np.linalg.norm(d, axis=1)
-    e = d / L[:, None]
-    T = sk * (L - sl0)
-    r = f_const.copy().reshape(n, 2) - anchor_k[:, None] * (x - x0)
+    pull = (sk * (L - sl0) / L)[:, None] * d
+    r = f_const.reshape(n, 2) - anchor_k[:, None] * (x - x0)
+    np.add.at(r, si, pull)
+    np.add.at(r, sj, -pull)
     e_face = x[fb] - x[fa]
     left = np.stack([-e_face[:, 1], e_face[:, 0]], axis=1) / np.linalg.norm(e_face, axis=1)[:, None]
     np.add.at(r, fa, 0.5 * traction * face_rest[:, None] * left)
     np.add.at(r, fb, 0.5 * traction * face_rest[:, None] * left)
-    np.add.at(r, si, T[:, None] * e)
-    np.add.at(r, sj, -T[:, None] * e)
+    return r
+
+
+def residual_and_jacobian(x):
+    """Net force on every node (2n) and its derivative (the stiffness, negated)."""
+    r = net_force(x)
+    d = x[sj] - x[si]
+    L = np.linalg.norm(d, axis=1)
+    e = d / L[:, None]
+    T = sk * (L - sl0)
     # Spring tangent: k e e^T + (T / L)(I - e e^T); the faces' turning is
     # left out of the Jacobian (Newton's iteration still converges to it).
     ee = np.einsum("si,sj->sij", e, e)
@@ -174,20 +183,6 @@ x_free = np.array([[float(r["x_m"]), float(r["y_m"])] for r in free_rows])
 v_free = np.array([[float(r["vx_m_per_s"]), float(r["vy_m_per_s"])] for r in free_rows])
 mass = np.array([float(r["mass_kg"]) for r in free_rows])
 damping = np.array([float(r["damping_Ns_per_m"]) for r in free_rows])
-
-
-def net_force(x):
-    d = x[sj] - x[si]
-    L = np.linalg.norm(d, axis=1)
-    pull = (sk * (L - sl0) / L)[:, None] * d
-    r = f_const.reshape(n, 2) - anchor_k[:, None] * (x - x0)
-    np.add.at(r, si, pull)
-    np.add.at(r, sj, -pull)
-    e_face = x[fb] - x[fa]
-    left = np.stack([-e_face[:, 1], e_face[:, 0]], axis=1) / np.linalg.norm(e_face, axis=1)[:, None]
-    np.add.at(r, fa, 0.5 * traction * face_rest[:, None] * left)
-    np.add.at(r, fb, 0.5 * traction * face_rest[:, None] * left)
-    return r
 
 
 def motion(_, y):

@@ -124,7 +124,7 @@ class VesselScene final : public Scene {
   VesselGeometry geometry_;
   double outer_radius_m_ = 0.0;
   // The skin's surface: the level plane through the vessel's top at rest
-  // (VesselParams::skin); NaN: no skin.
+  // (VesselParams::skin; used only when skin_on_).
   double skin_top_z_m_ = 0.0;
   bool skin_on_ = false;
   MeshlessModel model_;
