@@ -35,6 +35,11 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
               static_cast<ull>(c.last_echo_seq), static_cast<ull>(c.echo_regressions));
   std::printf("bridge: DDS partition %s; models for other sessions or devices %llu (expected 0)\n",
               hapsim::dds::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
+  std::printf(
+      "bridge: following server %016llx; models from another server dropped %llu (expected 0), "
+      "server switches %llu\n",
+      static_cast<ull>(dds.followed_server()), static_cast<ull>(dds.models_from_other_servers()),
+      static_cast<ull>(dds.server_switches()));
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,

@@ -133,8 +133,10 @@ std::string FormatLoadTable(const LoadReport& r) {
   out += Printf("servo thread: %llu ticks, lateness %s, work per tick %s, re-anchors %llu\n", U(r.servo.ticks),
                 common::FormatPercentiles(r.servo.lateness_s, kMs, "ms").c_str(),
                 common::FormatPercentiles(r.servo.work_s, kMs, "ms").c_str(), U(r.servo.reanchors));
-  out += Printf("models dropped: %llu for other devices, %llu for our devices but another session\n",
-                U(r.models_for_unknown_devices), U(r.models_for_other_sessions));
+  out += Printf(
+      "models dropped: %llu for other devices, %llu for our devices but another session, %llu from a "
+      "server other than the one each device follows\n",
+      U(r.models_for_unknown_devices), U(r.models_for_other_sessions), U(r.models_from_other_servers));
   if (!r.server.empty()) {
     out += Printf("%-14s %9s %10s %14s %13s %9s %6s\n", "server:session", "ticks", "late_ticks", "device_clocked",
                   "max_late_ms", "streaming", "owner");
@@ -164,6 +166,7 @@ std::string FormatLoadJson(const LoadReport& r) {
   w.EndObject();
   w.Field("models_for_unknown_devices", r.models_for_unknown_devices);
   w.Field("models_for_other_sessions", r.models_for_other_sessions);
+  w.Field("models_from_other_servers", r.models_from_other_servers);
   TotalJson(w, r.total);
   w.BeginArray("per_device");
   for (const auto& d : r.devices) DeviceJson(w, d);

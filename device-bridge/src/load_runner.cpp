@@ -144,6 +144,8 @@ LoadReport LoadRunner::Report(double elapsed_s) const {
   r.total.flow.model_age_s = pooled_model_age_s_.Summary();
   r.models_for_unknown_devices = router_->models_for_unknown_devices();
   r.models_for_other_sessions = router_->models_for_other_sessions();
+  for (std::size_t i = 0; i < router_->devices(); ++i)
+    r.models_from_other_servers += router_->models_from_other_servers(i);
   r.intervals = intervals_;
   r.intervals_dropped = intervals_dropped_;
   return r;

@@ -1,5 +1,7 @@
 #include "hapsim/bridge/model_router.h"
 
+#include <spdlog/spdlog.h>
+
 #include <array>
 #include <cstring>
 
@@ -24,8 +26,38 @@ void ModelRouter::Route(const hapsim_dds_LocalForceModel& model, std::int64_t re
     other_session_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
+  if (!FollowsServer(slot, model.server_instance, received_ns)) {
+    slot.other_server.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   slot.inbox.Publish(ReceivedModel{model, received_ns});
   slot.routed.fetch_add(1, std::memory_order_relaxed);
+}
+
+bool ModelRouter::FollowsServer(Slot& slot, std::uint64_t server_instance, std::int64_t received_ns) {
+  const std::uint64_t followed = slot.followed_server.load(std::memory_order_relaxed);
+  if (slot.following && server_instance == followed) {
+    slot.last_routed_ns = received_ns;
+    return true;
+  }
+  if (slot.following) {
+    if (received_ns - slot.last_routed_ns < kServerSilenceBeforeSwitch_ns) {
+      if (slot.other_server.load(std::memory_order_relaxed) == 0) {
+        spdlog::warn(
+            "session '{}': another server (instance {:016x}) also publishes force models; following "
+            "server {:016x} and dropping the other's (give each server its own --dds-domain)",
+            slot.session, server_instance, followed);
+      }
+      return false;
+    }
+    slot.switches.fetch_add(1, std::memory_order_relaxed);
+    spdlog::warn("session '{}': server {:016x} silent for {:.1f} s; now following server {:016x}", slot.session,
+                 followed, static_cast<double>(received_ns - slot.last_routed_ns) * 1e-9, server_instance);
+  }
+  slot.following = true;
+  slot.followed_server.store(server_instance, std::memory_order_relaxed);
+  slot.last_routed_ns = received_ns;
+  return true;
 }
 
 std::size_t TakeAndRouteModels(dds::Reader<hapsim_dds_LocalForceModel>& reader, ModelRouter& router) {

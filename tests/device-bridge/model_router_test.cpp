@@ -9,13 +9,17 @@
 namespace hapsim::bridge {
 namespace {
 
-hapsim_dds_LocalForceModel ModelFor(std::uint32_t device_id, const char* session, std::uint64_t seq) {
+hapsim_dds_LocalForceModel ModelFor(std::uint32_t device_id, const char* session, std::uint64_t seq,
+                                    std::uint64_t server_instance = 0xA) {
   hapsim_dds_LocalForceModel m{};
   m.device_id = device_id;
   std::strncpy(m.session, session, sizeof m.session - 1);
   m.seq = seq;
+  m.server_instance = server_instance;
   return m;
 }
+
+constexpr std::int64_t kMs = 1'000'000;
 
 class ModelRouterTest : public ::testing::Test {
  protected:
@@ -59,6 +63,49 @@ TEST_F(ModelRouterTest, TheNewestModelOfADeviceWins) {
   ASSERT_TRUE(HasNew(2, &got));
   EXPECT_EQ(got.msg.seq, 2u);
   EXPECT_EQ(router_.models_routed(2), 2u);
+}
+
+// Two servers on one domain both serving "room-a": the device keeps the
+// first server's models, at 1 kHz interleaved with the second's, and never
+// hands the second's to the servo loop.
+TEST_F(ModelRouterTest, ADeviceFollowsTheFirstServerAndDropsAndCountsAnothersInterleavedModels) {
+  constexpr std::uint64_t kFirst = 0x1111, kSecond = 0x2222;
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    const auto t = static_cast<std::int64_t>(i) * kMs;
+    router_.Route(ModelFor(100, "room-a", i, kFirst), t);
+    router_.Route(ModelFor(100, "room-a", 10'000 + i, kSecond), t + kMs / 2);
+    ReceivedModel got;
+    ASSERT_TRUE(HasNew(0, &got)) << "tick " << i;
+    EXPECT_EQ(got.msg.server_instance, kFirst) << "tick " << i;
+    EXPECT_EQ(got.msg.seq, i);
+  }
+  EXPECT_EQ(router_.followed_server(0), kFirst);
+  EXPECT_EQ(router_.models_routed(0), 100u);
+  EXPECT_EQ(router_.models_from_other_servers(0), 100u);
+  EXPECT_EQ(router_.server_switches(0), 0u);
+  EXPECT_EQ(router_.followed_server(1), 0u) << "another device follows nobody before its first model";
+}
+
+// A restarted server (a new instance) is followed only once the old one has
+// been silent for the switch delay — never while the old one still talks.
+TEST_F(ModelRouterTest, ADeviceSwitchesServerOnlyAfterItsServerHasBeenSilentForTheSwitchDelay) {
+  constexpr std::uint64_t kOld = 0x1111, kNew = 0x2222;
+  router_.Route(ModelFor(100, "room-a", 1, kOld), 0);
+  const std::int64_t just_before = ModelRouter::kServerSilenceBeforeSwitch_ns - 1;
+  router_.Route(ModelFor(100, "room-a", 1, kNew), just_before);
+  EXPECT_EQ(router_.followed_server(0), kOld);
+  EXPECT_EQ(router_.models_from_other_servers(0), 1u);
+  router_.Route(ModelFor(100, "room-a", 2, kNew), ModelRouter::kServerSilenceBeforeSwitch_ns);
+  EXPECT_EQ(router_.followed_server(0), kNew);
+  EXPECT_EQ(router_.server_switches(0), 1u);
+  ReceivedModel got;
+  ASSERT_TRUE(HasNew(0, &got));
+  EXPECT_EQ(got.msg.server_instance, kNew);
+  EXPECT_EQ(got.msg.seq, 2u);
+  // The old server speaking again is now the other one.
+  router_.Route(ModelFor(100, "room-a", 3, kOld), ModelRouter::kServerSilenceBeforeSwitch_ns + kMs);
+  EXPECT_FALSE(HasNew(0, &got));
+  EXPECT_EQ(router_.models_from_other_servers(0), 2u);
 }
 
 }  // namespace

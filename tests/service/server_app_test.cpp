@@ -319,6 +319,54 @@ TEST_F(ServerAppTest, ClosingASessionStopsItsModelsWhileTheOtherSessionContinues
   EXPECT_GT(b.models_own, b_before + 100);
 }
 
+// Two servers on one domain serving one session id: each sees the other's
+// force-model writer in that session's partition (DDS discovery) and counts
+// it; a session only one of them serves does not count, and the count goes
+// when the other closes the shared session.
+TEST_F(ServerAppTest, EachOfTwoServersServingOneSessionIdSeesTheOthersModelWriter) {
+  ServerOptions o;
+  o.listen_address = "127.0.0.1:0";
+  o.dds.domain_id = domain_;
+  ServerApp other(o);
+  auto other_channel =
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(other.bound_port()), grpc::InsecureChannelCredentials());
+  auto other_sessions = hapsim::v1::SessionService::NewStub(other_channel);
+  auto create_on_other = [&](const std::string& id, const std::string& scene) {
+    grpc::ClientContext ctx;
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id(id);
+    req.set_scene(scene);
+    hapsim::v1::SessionInfo info;
+    return other_sessions->CreateSession(&ctx, req, &info);
+  };
+  const auto& ours = app_->dds().counters().foreign_model_writers;
+  const auto& theirs = other.dds().counters().foreign_model_writers;
+  auto wait_for = [](const std::function<bool()>& done) {
+    for (int i = 0; i < 500 && !done(); ++i) std::this_thread::sleep_for(10ms);
+    return done();
+  };
+  ASSERT_TRUE(Create("t1", "tissue_block").ok());
+  ASSERT_TRUE(Create("t2", "tissue_block").ok());
+  ASSERT_TRUE(create_on_other("t1", "acupuncture").ok());
+  ASSERT_TRUE(create_on_other("t3", "tissue_block").ok());
+  EXPECT_TRUE(wait_for([&] { return ours.load() == 1 && theirs.load() == 1; }))
+      << "ours " << ours.load() << ", theirs " << theirs.load();
+  EXPECT_NE(app_->dds().instance(), other.dds().instance());
+  // t2 and t3 are served once: still one pair each, after discovery settles.
+  std::this_thread::sleep_for(300ms);
+  EXPECT_EQ(ours.load(), 1u);
+  EXPECT_EQ(theirs.load(), 1u);
+
+  grpc::ClientContext ctx;
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("t1");
+  hapsim::v1::CloseSessionResponse closed;
+  ASSERT_TRUE(other_sessions->CloseSession(&ctx, ref, &closed).ok());
+  EXPECT_TRUE(wait_for([&] { return ours.load() == 0 && theirs.load() == 0; }))
+      << "ours " << ours.load() << ", theirs " << theirs.load();
+  other.Shutdown();
+}
+
 TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
   ASSERT_TRUE(Create("v").ok());
   {

@@ -63,6 +63,10 @@ std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounte
       .Sample("{reason=\"stale\"}", dds.poses_stale.load());
   w.Family("hapsim_force_models_written_total", "counter", "Local force models written to DDS.")
       .Sample("", dds.force_models_written.load());
+  w.Family("hapsim_dds_foreign_model_writers", "gauge",
+           "Force-model writers of another participant (another server) in this server's session partitions, "
+           "one per writer and session. Should be 0: give each server its own DDS domain.")
+      .Sample("", dds.foreign_model_writers.load());
   w.Family("hapsim_tick_pool_ticks_total", "counter", "Session ticks run by the tick pool.").Sample("", pool.ticks);
   w.Family("hapsim_tick_pool_wakeups_total", "counter", "Tick pool worker wake-ups.").Sample("", pool.wakeups);
   if (auth) {

@@ -49,7 +49,8 @@ bool IsLoopbackAddress(const std::string& a) {
 ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(*o.classes) : AccessPolicy()) {
   const auto credentials = MakeCredentials(o);  // bad TLS files fail before anything starts
   dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
-  spdlog::info("DDS domain {} with config: {}", o.dds.domain_id, dds_->config_origin());
+  spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
+               dds_->instance());
   pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
   spdlog::info("tick pool: {} workers", pool_->workers());
   registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get(), &viewers_);

@@ -1,9 +1,10 @@
 #include "hapsim/service/server_dds.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <array>
-
-#include <spdlog/spdlog.h>
+#include <random>
 
 #include "hapsim/common/clock.h"
 #include "hapsim/dds/partition.h"
@@ -50,6 +51,7 @@ class ServerDds::Port : public SessionPort {
                       hapsim::dds::SessionPartition(session_id)) {
     // The session id is the same in every model: written once (NUL-padded).
     session_id.copy(wire_.session, sizeof wire_.session - 1);
+    wire_.server_instance = owner->instance_;
   }
 
   // Tick worker (one at a time): packs into the port's own wire struct, so
@@ -78,8 +80,21 @@ class ServerDds::Port : public SessionPort {
   hapsim::dds::Entity condition_;
 };
 
+namespace {
+std::uint64_t RandomInstanceId() {
+  std::random_device device;
+  std::uint64_t id = 0;
+  while (id == 0) id = (static_cast<std::uint64_t>(device()) << 32) | device();
+  return id;
+}
+}  // namespace
+
 ServerDds::ServerDds(const hapsim::dds::Options& options, PoseLimits limits)
-    : participant_(options), limits_(limits), io_(participant_) {}
+    : participant_(options),
+      instance_(RandomInstanceId()),
+      limits_(limits),
+      publications_(participant_),
+      io_(participant_) {}
 
 ServerDds::~ServerDds() { Stop(); }
 
@@ -92,11 +107,13 @@ void ServerDds::Start(SessionRegistry* registry, TickPool* pool) {
   pool_ = pool;
   // Every wake refreshes the table first: it holds the sessions it names
   // alive for the pass.
+  publications_condition_ = io_.AttachReader(publications_.handle(), kPublicationsTag);
   io_.Start({[this] { RefreshIndex(); }, [this](dds_attach_t tag) { OnReader(tag); }});
 }
 
 void ServerDds::Stop() {
   io_.Stop();
+  publications_condition_.Reset();
   table_.reset();
   index_.clear();
 }
@@ -108,9 +125,14 @@ void ServerDds::RefreshIndex() {
   index_.clear();
   for (const auto& [id, session] : *table_) index_.push_back(session.get());
   std::sort(index_.begin(), index_.end());
+  CheckForeignModelWriters();  // a new session may share its id with another server's
 }
 
 void ServerDds::OnReader(dds_attach_t tag) {
+  if (tag == kPublicationsTag) {
+    TakePublications();
+    return;
+  }
   auto* session = reinterpret_cast<Session*>(tag);
   // A tag is trusted only if the session is in the table we hold (a closing
   // session is removed from the table before its reader is detached, a new
@@ -119,6 +141,38 @@ void ServerDds::OnReader(dds_attach_t tag) {
   RoutePoses(*session, static_cast<Port&>(session->port()));
 }
 
+void ServerDds::TakePublications() {
+  bool changed = false;
+  publications_.Take([&](const hapsim::dds::RemotePublication& pub) {
+    if (!pub.alive) {
+      changed |= foreign_model_writers_.erase(pub.handle) > 0;
+    } else if (pub.topic == hapsim::dds::kModelTopic) {
+      foreign_model_writers_[pub.handle] = pub;
+      changed = true;
+    }
+  });
+  if (changed) CheckForeignModelWriters();
+}
+
+void ServerDds::CheckForeignModelWriters() {
+  if (!table_) return;
+  std::uint64_t count = 0;
+  for (const auto& [id, session] : *table_) {
+    const std::string partition = hapsim::dds::SessionPartition(id);
+    for (const auto& [handle, pub] : foreign_model_writers_) {
+      if (std::find(pub.partitions.begin(), pub.partitions.end(), partition) == pub.partitions.end()) continue;
+      ++count;
+      if (warned_.emplace(handle, id).second) {
+        spdlog::warn(
+            "another server (DDS participant {:016x}) publishes force models for session '{}' in its "
+            "partition {}: a stylus driving '{}' follows whichever server answers first. Give each server "
+            "its own --dds-domain",
+            pub.participant_prefix, id, partition, id);
+      }
+    }
+  }
+  counters_.foreign_model_writers.store(count, std::memory_order_relaxed);
+}
 
 void ServerDds::RoutePoses(Session& session, Port& port) {
   std::array<hapsim_dds_StylusPose, 64> batch;

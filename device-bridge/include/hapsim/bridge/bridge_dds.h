@@ -25,6 +25,10 @@ class BridgeDds {
   std::uint64_t models_for_others() const {
     return router_.models_for_unknown_devices() + router_.models_for_other_sessions();
   }
+  // The server this bridge follows (0: none yet), and the models of any other one it dropped.
+  std::uint64_t followed_server() const { return router_.followed_server(0); }
+  std::uint64_t models_from_other_servers() const { return router_.models_from_other_servers(0); }
+  std::uint64_t server_switches() const { return router_.server_switches(0); }
   const std::string& config_origin() const { return dds_.config_origin(); }
   // Servers whose pose reader matches ours (0: no server serves the session).
   std::uint32_t matched_servers() const { return dds_.MatchedServers(0); }

@@ -78,6 +78,7 @@ struct LoadReport {
   LoadTotals total;
   std::uint64_t models_for_unknown_devices = 0;  // other device ids on the domain
   std::uint64_t models_for_other_sessions = 0;   // our device ids, another session
+  std::uint64_t models_from_other_servers = 0;   // our devices and sessions, but not the server each follows
   std::vector<ServerSessionStats> server;        // empty: not fetched
   std::vector<LoadInterval> intervals;           // empty: --interval-s not given
   std::uint64_t intervals_dropped = 0;           // past the space reserved for them

@@ -4,6 +4,10 @@
 // models never arrive; should one arrive anyway (another device id, or one
 // of ours but another session), it is counted and dropped — the bridge
 // reports that count, and it must stay 0.
+// A device follows one server: it locks to the server instance of the
+// first model it routes and drops and counts every other instance's models
+// (two servers on one domain may both serve the session id), until the one
+// it follows has been silent for kServerSilenceBeforeSwitch_ns (a restart).
 // One receive thread routes (the inboxes' single producer); the servo
 // thread takes from the inboxes (their single consumer).
 #pragma once
@@ -21,6 +25,9 @@ namespace hapsim::bridge {
 
 class ModelRouter {
  public:
+  // Long past the watchdog's zero force (100 ms): a switch never mixes two servers' models in one force ramp.
+  static constexpr std::int64_t kServerSilenceBeforeSwitch_ns = 1'000'000'000;
+
   ModelRouter(std::uint32_t first_device_id, const std::vector<std::string>& sessions);
 
   // Receive thread only. received_ns: arrival time on this process's steady clock.
@@ -33,6 +40,16 @@ class ModelRouter {
   std::uint64_t models_routed(std::size_t device) const { return slots_[device].routed.load(std::memory_order_relaxed); }
   std::uint64_t models_for_unknown_devices() const { return unknown_device_.load(std::memory_order_relaxed); }
   std::uint64_t models_for_other_sessions() const { return other_session_.load(std::memory_order_relaxed); }
+  // The server instance device follows (0 before its first model).
+  std::uint64_t followed_server(std::size_t device) const {
+    return slots_[device].followed_server.load(std::memory_order_relaxed);
+  }
+  std::uint64_t models_from_other_servers(std::size_t device) const {
+    return slots_[device].other_server.load(std::memory_order_relaxed);
+  }
+  std::uint64_t server_switches(std::size_t device) const {
+    return slots_[device].switches.load(std::memory_order_relaxed);
+  }
 
  private:
   // One cache line apart, so the receive thread's writes to one device's
@@ -40,8 +57,13 @@ class ModelRouter {
   struct alignas(64) Slot {
     common::LatestValue<ReceivedModel> inbox;
     std::atomic<std::uint64_t> routed{0};
+    std::atomic<std::uint64_t> followed_server{0}, other_server{0}, switches{0};
+    bool following = false;           // receive thread only
+    std::int64_t last_routed_ns = 0;  // receive thread only
     char session[sizeof(hapsim_dds_LocalForceModel::session)] = {};
   };
+  // Whether slot takes a model of server_instance that arrived at received_ns.
+  bool FollowsServer(Slot& slot, std::uint64_t server_instance, std::int64_t received_ns);
 
   std::uint32_t first_device_id_;
   std::size_t n_;

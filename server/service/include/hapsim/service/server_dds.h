@@ -14,18 +14,29 @@
 // are written by the tick workers through the session's port (dds_write is
 // thread-safe), with no hand-off; the port packs the session's plain
 // ForceModelMessage into the wire struct (inbound, FilterPose unpacks).
+//
+// Every model carries this server's instance id (random, fixed at start), so
+// a bridge follows one server even if another on the domain serves the same
+// session id. The I/O thread also watches DDS discovery and warns when
+// another participant publishes force models in one of our sessions'
+// partitions — the stylus of that session would otherwise get both.
 #pragma once
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <set>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "hapsim/dds/dds.h"
 #include "hapsim/dds/io_thread.h"
+#include "hapsim/dds/publication_watch.h"
 #include "hapsim/service/pose_filter.h"
-#include "hapsim/service/warning_limiter.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/session_registry.h"
+#include "hapsim/service/warning_limiter.h"
 
 namespace hapsim::service {
 
@@ -37,6 +48,8 @@ struct ServerDdsCounters {
   std::atomic<std::uint64_t> poses_accepted{0};
   std::atomic<std::uint64_t> force_models_written{0};
   std::atomic<std::uint64_t> write_failures{0};
+  // Now: another participant's force-model writers in our sessions' partitions (one per writer and session).
+  std::atomic<std::uint64_t> foreign_model_writers{0};
 };
 
 class ServerDds : public SessionTransport {
@@ -52,14 +65,22 @@ class ServerDds : public SessionTransport {
 
   const ServerDdsCounters& counters() const { return counters_; }
   const std::string& config_origin() const { return participant_.config_origin(); }
+  // Random, fixed for this server's life; in every force model it sends.
+  std::uint64_t instance() const { return instance_; }
 
  private:
   class Port;
   void RefreshIndex();
   void OnReader(dds_attach_t tag);
   void RoutePoses(Session& session, Port& port);  // each batch through RoutePoseBatch (pose_router.h)
+  void TakePublications();
+  void CheckForeignModelWriters();
+
+  // The discovery reader's tag: never a Session's address, nor the guard's 0.
+  static constexpr dds_attach_t kPublicationsTag = 1;
 
   hapsim::dds::Participant participant_;
+  std::uint64_t instance_;
   PoseLimits limits_;
   SessionRegistry* registry_ = nullptr;
   TickPool* pool_ = nullptr;
@@ -69,6 +90,12 @@ class ServerDds : public SessionTransport {
   // sessions sorted by address.
   std::shared_ptr<const SessionTable> table_;
   std::vector<Session*> index_;
+  // I/O thread only: other participants' force-model writers by discovery
+  // instance, and the (writer, session) pairs already warned about.
+  hapsim::dds::PublicationWatch publications_;
+  hapsim::dds::Entity publications_condition_;
+  std::map<dds_instance_handle_t, hapsim::dds::RemotePublication> foreign_model_writers_;
+  std::set<std::pair<dds_instance_handle_t, std::string>> warned_;
   hapsim::dds::IoThread io_;  // last: its thread uses the members above, so it stops first
 };
 
