@@ -1,4 +1,4 @@
-# Unity builds — CI time (issue 15, docs/reliability.md "CI time").
+# Unity builds — CI time (docs/reliability.md "CI time").
 # With GCC 12 a file here spends seconds parsing the same third-party
 # headers (GoogleTest 2.5 s, Eigen 2 s, gRPC with our services 3.8 s, the
 # standard containers 1.5 s) and instantiating the same templates; a

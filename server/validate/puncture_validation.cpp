@@ -47,12 +47,12 @@ struct Check {
   std::string detail;
 };
 
-// Issue 11's speed sweep: the default scene (what a trainee gets), tip
+// The speed sweep: the default scene (what a trainee gets), tip
 // straight down from 2 mm above the skin to 30 mm at each speed. Per layer:
 // indentation at puncture (tip depth below where the layer's surface was
 // when pressing began), peak force,
 // and the contact phase (ticks pressing that layer's surface) — against the
-// targets the issue sets (skin indentation 2-6 mm, fat contact >= 20 ticks
+// force net's design targets (skin indentation 2-6 mm, fat contact >= 20 ticks
 // at 10 mm/s, every peak below the bridge's 2.5 N clamp).
 struct SweepRow {
   double speed_mm_s;
@@ -320,7 +320,7 @@ int Run(const std::filesystem::path& out) {
       }
     }
   }
-  // Shaft friction of the order the mission sets (1e-2 N per mm inserted),
+  // Shaft friction of the order we target (1e-2 N per mm inserted),
   // so it is felt between punctures: 0.005-0.05 N/mm at 30 mm, 10 mm/s.
   const double shaft_30_N = DefaultShaftLaw(out);
   const double shaft_per_mm = shaft_30_N / 30.0;
@@ -340,7 +340,7 @@ int Run(const std::filesystem::path& out) {
     clamp_ok = clamp_ok && r.peak_N < 2.5;
     worst_peak = std::max(worst_peak, r.peak_N);
   }
-  checks.push_back({"skin indents 2-6 mm before it gives way, at 2-20 mm/s (issue 11)", skin_ok,
+  checks.push_back({"skin indents 2-6 mm before it gives way, at 2-20 mm/s", skin_ok,
                     std::to_string(skin_lo) + " - " + std::to_string(skin_hi) + " mm"});
   checks.push_back({"the fat's contact lasts >= 20 ticks at 10 mm/s", fat_ok, std::to_string(fat_ticks_10) + " ticks"});
   checks.push_back({"every layer's peak stays below the bridge's 2.5 N clamp, at 2-20 mm/s", clamp_ok,
@@ -365,7 +365,8 @@ int Run(const std::filesystem::path& out) {
     md << line;
     std::printf("  %s", line);
   }
-  md << "\nTargets (issue 11): skin indentation 2-6 mm, fat contact >= 20 ticks at 10 mm/s, every peak < 2.5 N.\n";
+  md << "\nTargets (the force net's design): skin indentation 2-6 mm, fat contact >= 20 ticks at 10 mm/s, every peak < "
+        "2.5 N.\n";
   return all ? 0 : 1;
 }
 

@@ -1,6 +1,6 @@
 // One acupuncture scene tick (SH depth query, force-net solve, springback,
 // local force model, displayed patches and needle), and its parts.
-// Target (issue 4): whole tick <= 100 µs single-threaded.
+// Target: whole tick <= 100 µs single-threaded.
 #include <time.h>
 
 #include <algorithm>

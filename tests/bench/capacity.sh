@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Capacity benchmark (issues 8 and 17; not in CI, run by hand on a quiet
+# Capacity benchmark (not in CI, run by hand on a quiet
 # machine). For every MODE x SCENE x N: a hapsim-server pinned to core 0
 # with N sessions created first (hapsim-ctl create), driven for RUN_S seconds
 # from core 1 by
@@ -28,7 +28,8 @@
 #   RUN_S [20]                       seconds each client drives its device
 #   SCRIPT [insertion]               synthetic script of every device
 #   BASELINE_BIN []                  directory with an older hapsim-server
-#                                    (e.g. /work/baseline: one thread per session)
+#                                    (e.g. a build from before the worker pool:
+#                                    one thread per session)
 #   BASELINE_CLIENT_BIN [BASELINE_BIN if it holds a hapsim-bridge, else BIN_DIR]
 #                                    clients run against the baseline server
 #                                    (hapsim-bridge, hapsim-load; a client

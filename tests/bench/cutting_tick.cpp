@@ -3,7 +3,7 @@
 // MSM step), on ~10k- and ~100k-node skins; beside it, in the same run, the
 // same skins with the blade in the air (the plain step: the baseline the cut
 // adds to) and the blade collision alone, grid against brute force.
-// Target (issue 10): <= 1 ms per cutting tick at 10k nodes (1 kHz on one core).
+// Target: <= 1 ms per cutting tick at 10k nodes (1 kHz on one core).
 // Run: build/bin/bench_cutting_tick (see docs/performance.md).
 #include <time.h>
 

@@ -2,7 +2,7 @@
 // the frame pump, paid once per frame per viewer — against a baseline in the
 // same run: a bare scan that quantises every vertex and compares it with the
 // last sent value (the least work any delta encoder must do). With the
-// issue-10 cases: a frame carrying one cutting tick's topology edits (tens
+// cutting cases: a frame carrying one cutting tick's topology edits (tens
 // of triangles) against a plain delta and a keyframe of the same mesh.
 //   build/bin/bench_frame_encoder --benchmark_min_time=0.2
 #include <random>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Soak (issue 15; not in CI): SESSIONS tissue_block sessions driven by
+# Soak (not in CI): SESSIONS tissue_block sessions driven by
 # hapsim-load, VIEWERS viewers following them, one more viewer connecting
 # and disconnecting every second (CHURN=0: not), for SECONDS; the server pinned to core 0,
 # every client to core 1. Samples the server's RSS every 10 s; writes

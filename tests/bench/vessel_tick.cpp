@@ -1,4 +1,4 @@
-// One vessel scene tick (issue 12: 1 kHz with 5k nodes on one thread) and
+// One vessel scene tick (target: 1 kHz with 5k nodes on one thread) and
 // its largest part, the meshless forces, for the paper's model and its two
 // baselines side by side. Args: model (0 meshless_xpbd, 1 mass_spring,
 // 2 plain_pbd), vein length [mm] (30 mm: 2 196 nodes, the default vein;
@@ -59,7 +59,7 @@ BENCHMARK(BM_VesselTick_Pressed1mm)
     ->Unit(benchmark::kMicrosecond);
 
 // The paper's scale: a vein of ~100k nodes (0.1 mm spacing, 4 radial
-// layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the issue asks
+// layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the target is
 // >= 60 updates/s on one thread. The contact at this scale comes and goes
 // under the wobble, hence force_N as a counter rather than a refusal.
 void BM_VesselTick_100kNodes(benchmark::State& state) {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The viewer's frame rate on software rendering (Mesa llvmpipe), issue 14.
+# The viewer's frame rate on software rendering (Mesa llvmpipe).
 # Not a test: run by hand, figures in docs/viewer.md. Usage:
 #   tests/bench/viewer_fps.sh [BUILD_DIR] [SECONDS]
 # 1. bench_viewer_render: one viewer frame (upload every vertex, draw mesh +

@@ -1,4 +1,4 @@
-// The viewer's frame cost on software rendering (issue 14: "smooth at 60 fps
+// The viewer's frame cost on software rendering (target: "smooth at 60 fps
 // on a 50k-vertex mesh with Mesa llvmpipe"), off screen at 1280x720: every
 // iteration re-uploads every vertex (as if a delta moved them all), draws
 // the lit mesh, tool and force arrow, and the ImGui panels with a full

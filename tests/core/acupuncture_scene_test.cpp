@@ -142,7 +142,7 @@ TEST_F(AcupunctureSceneTest, ThreePuncturesEachAtItsStartPlusTheNetsPunctureDept
     previous_m = tr.depth_m[tr.puncture_tick[i]];
     top_m += scene_.Params().layers[i].thickness_m;
   }
-  // Skin indents 2-6 mm before it gives way (issue 11).
+  // Skin indents 2-6 mm before it gives way (the force net's design target).
   EXPECT_GE(tr.depth_m[tr.puncture_tick[0]], 2e-3);
   EXPECT_LE(tr.depth_m[tr.puncture_tick[0]], 6e-3);
 }

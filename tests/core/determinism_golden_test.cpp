@@ -1,4 +1,4 @@
-// Determinism golden test (ARCHITECTURE.md rule 6): a fixed tissue-grid
+// Determinism golden test: a fixed tissue-grid
 // scenario must end in the same state hash on every build, CPU and spring
 // kernel. The hashes below were recorded when the AVX-512 kernel was added,
 // and are also what the step gave before it (commit b1a99af, checked by

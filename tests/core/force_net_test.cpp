@@ -1,7 +1,8 @@
 // Force net (acupuncture paper §3.2): lattice topology, the nonlinear MSM
 // static solve against an independent solve of the two-ring net, the tip's
 // reaction against the forces on N1, and the shape of the force-depth curve
-// against issue 11's targets.
+// against the net's design targets (skin indents 2-6 mm before puncture,
+// the fat's contact lasts >= 20 ticks at 10 mm/s).
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -103,7 +104,7 @@ TEST(ForceNet, ReactionOnTipEqualsSpringAndAnchorForcesOnN1) {
 }
 
 // Like skin: the force stiffens with depth (J-shaped), and the skin gives
-// way after millimetres of indentation (issue 11: 2-6 mm), the fat after a
+// way after millimetres of indentation (target: 2-6 mm), the fat after a
 // contact long enough to feel (>= 20 ticks at 10 mm/s = 0.2 mm).
 TEST(ForceNet, ForceStiffensWithDepthAndTheSkinIndentsMillimetresBeforePuncture) {
   const auto layers = PaperTissueLayers();

@@ -1,4 +1,4 @@
-// The Scene contract (scene.h; ARCHITECTURE.md rules 1 and 6), checked for
+// The Scene contract (scene.h), checked for
 // every scene in SceneCatalog() with its default parameters, driven by one
 // scripted needle: absent, approach, press in, hold, withdraw. A new scene in
 // the catalogue is covered automatically and only needs its golden hash.

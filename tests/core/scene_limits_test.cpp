@@ -32,7 +32,7 @@ TEST(SceneLimits, AcupunctureShDegreeAboveSixteenIsRejectedWithItsRange) {
 }
 
 TEST(SceneLimits, AcupunctureMinuteLongFitOnceAcceptedIsRejected) {
-  // Took about a minute to build before the limits (issue 8).
+  // Took about a minute to build before the scene limits existed.
   EXPECT_NE(Rejection("acupuncture", {{"shf_lmax", 30}, {"shf_samples", 20000}}), "");
 }
 

@@ -158,7 +158,7 @@ TEST(VesselScene, TheDeviceIsAsStiffAsTheWallSettlesAtTheTipsDepth) {
   const double slope = (force_at[2] - force_at[0]) / 0.6e-3;
   std::printf("settled 0.7 / 1.0 / 1.3 mm: %.4f / %.4f / %.4f N, slope %.1f N/m; rendered at 1.0 mm %.1f N/m\n",
               force_at[0], force_at[1], force_at[2], slope, rendered);
-  EXPECT_NEAR(rendered, slope, 0.2 * slope);  // the bound
+  EXPECT_NEAR(rendered, slope, 0.2 * slope);  // rendered within 20 % of the settled slope
 }
 
 // The worst force over the settled force at the tip's depth while the device

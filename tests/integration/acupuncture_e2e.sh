@@ -15,7 +15,8 @@ sleep 0.3
 # 1 mm above the skin, 5 mm/s down to 14 mm (skin pierced ~2.6 mm deep, the
 # fat ~1.1 mm below that, the muscle ~2.9 mm below its top at 9.2 mm) and
 # back out: 6 s. The script ends by itself. Every layer's contact now lasts
-# over 200 ticks at this speed (issue 11); it was 5 ticks for the fat.
+# over 200 ticks at this speed; with the earlier linear force net it was 5
+# ticks for the fat.
 "$bin/hapsim-bridge" --session "$session" --dds-domain "$domain" --script constant_speed \
     --start-height-mm 1 --depth-mm 14 --speed-mm-s 5 --trace trace.csv >bridge.out 2>bridge.log &
 bridge=$!; pids+=("$bridge")

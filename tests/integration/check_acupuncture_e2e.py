@@ -2,7 +2,7 @@
 
 Layer tops below the skin surface (z = 0): skin 0, fat 0.8 mm, muscle 9.2 mm
 (paper Table 2). Each layer is pressed millimetres deep before it gives way
-(issue 11's force net); the expected depths are the model's own.
+(the nonlinear force net); the expected depths are the model's own.
 """
 import csv
 import re

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Checks of classroom.sh (issue 13): class view, roles, TLS, scores, metrics."""
+"""Checks of classroom.sh: class view, roles, TLS, scores, metrics."""
 import os
 import re
 import sys

@@ -9,7 +9,7 @@ import sys
 from checks import check, ctl_sessions, exit_code, finish, read_text
 
 work, server_rc = sys.argv[1], int(sys.argv[2])
-WARN_AGE_MS = 20.0  # hapsim-load's --watchdog-warn-ms default (issue 8's bound)
+WARN_AGE_MS = 20.0  # hapsim-load's --watchdog-warn-ms default (the model-age bound under load)
 CREATED = {"acupuncture": "worst-acupuncture", "tissue_cost": "worst-tissue-cost", "tissue_grid": "worst-tissue-grid"}
 GRPC_INVALID_ARGUMENT = 3
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 13: a class of 8 trainees on TLS with tokens, as README's classroom
+# A class of 8 trainees on TLS with tokens, as README's classroom
 # section runs it. deploy/make-dev-certs.sh and deploy/make-class.sh make
 # the certificates and the class (8 acupuncture sessions t1..t8, tokens);
 # hapsim-load drives all 8 with synthetic devices (phase-shifted needle
@@ -35,7 +35,7 @@ run() { local name=$1 code=0; shift; "$@" >"$name.out" 2>"$name.err" || code=$?;
 load=$!; pids+=("$load")
 # The instructor's live table (a pipe, so one block per update): 10 Hz for 6 s.
 sleep 0.5
-# The observer's class console (issue 14), drawn off screen while the table runs.
+# The observer's class console, drawn off screen while the table runs.
 console=""
 if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   "$bin/hapsim-viewer" --headless "${tls[@]}" --token-file class/tokens/observer.token --class acu-101 \

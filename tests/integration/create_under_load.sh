@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Creating the most expensive accepted sessions while a classroom runs
-# (issue 8: "creating a session of any accepted parameters while 32 others
+# (the target: "creating a session of any accepted parameters while 32 others
 # run: no device's model age exceeds 20 ms"). hapsim-load creates and drives
 # DEVICES tissue_block sessions; 2 s in (all streaming), hapsim-ctl creates
 # (docs/scene-limits.md):
@@ -20,14 +20,14 @@
 # were the clients' delays). The builds run at nice 10 beside the busy
 # sessions, so on a slow machine they take seconds: hapsim-ctl waits 30 s.
 #
-# DEVICES (environment, default 24): issue 8 measured 32 on a machine where
+# DEVICES (environment, default 24): the target's 32 was measured on a machine where
 # a tissue_block session-tick cost 18 µs of server CPU (32 sessions: 60 % of
-# core 0). The CI machines measured 25 µs (AMD EPYC VM, 2026-11-23): 32
+# core 0). The CI machines measured 25 µs (AMD EPYC VM): 32
 # sessions alone fill ~80 % of the core, the build's own CPU tips it into
 # overload (late ticks 15 %) and the builds starve for 30 s — a capacity
 # limit, not a creation stall, which is what this test guards. 24 sessions
 # leave the same headroom here that 32 left there; DEVICES=32 reproduces
-# issue 8's figure on a machine that fast (docs/performance.md, Capacity).
+# the target's figure on a machine that fast (docs/performance.md, Capacity).
 # Bounded: every client runs under `timeout`, the whole script takes
 # ~10-20 s; nothing leaves 127.0.0.1.
 set -euo pipefail

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Fault injection (issue 15): two sessions, each driven by a synthetic
+# Fault injection: two sessions, each driven by a synthetic
 # device pressing into the tissue; session fb's bridge and viewer run
 # throughout while session fa's bridge and viewer are killed with SIGKILL at
 # random moments and restarted, three times each. After every event the

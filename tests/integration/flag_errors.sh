@@ -22,11 +22,12 @@ expect 2 "option '--obj' needs a value" "$bin/hapsim-ctl" --server 127.0.0.1:9 s
 expect 2 "--frame-rate-hz must be within (0, 1000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --frame-rate-hz 0
 expect 2 "--pose-timeout-ms must be within (0, 60000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --pose-timeout-ms 1e18
 expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.0.0.1:0 --quantum-mm 5
-# Durations that would overflow when converted to ns or tick counts (gap 6).
+# Durations that would overflow when converted to ns or tick counts
+# (docs/reliability.md, gap 6).
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-viewer" --session s --seconds 1e300
 expect 2 "--connect-timeout-s must be within (0, 3600]" "$bin/hapsim-viewer" --session s --connect-timeout-s 1e16
 expect 2 "--max-rate-hz must be within 0 or \[0.01, 1000\]" "$bin/hapsim-viewer" --session s --max-rate-hz 1e-12
-# The viewer's picture flags (issue 14): named before any window or connection.
+# The viewer's picture flags: named before any window or connection.
 if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --headless --png x.png --size 10x10
   expect 2 "--size wants WIDTHxHEIGHT" "$bin/hapsim-viewer" --session s --size 1280
@@ -49,7 +50,7 @@ expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-bridge" --seconds 1e
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-load" --seconds 1e20
 expect 2 "hold time must be in \[0, 1e7\] s" "$bin/hapsim-bridge" --hold-s 1e300
 # The same mistake gets the same exit code in the bridge and the load
-# generator (gap 9): bad script, bad safety setting, bad session id, bad params.
+# generator (docs/reliability.md, gap 9): bad script, bad safety setting, bad session id, bad params.
 expect 2 "speed must be in (0, 1\] m/s" "$bin/hapsim-bridge" --speed-mm-s 0
 expect 2 "speed must be in (0, 1\] m/s" "$bin/hapsim-load" --speed-mm-s 0
 expect 2 "force" "$bin/hapsim-bridge" --max-force-n -1
@@ -58,7 +59,7 @@ expect 2 "--session must be within \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-bridge" -
 expect 2 "is not \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-load" --sessions "a b"
 expect 2 "--params wants KEY=NUMBER" "$bin/hapsim-load" --create tissue_block --params stiffness
 expect 2 "unknown backend 'phantom'" "$bin/hapsim-bridge" --backend phantom
-# Classroom (issue 13): a broken class config or TLS setup stops the server at
+# Classroom: a broken class config or TLS setup stops the server at
 # start, naming the file and place; clients name unreadable token/TLS files.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 printf '[[class]]\nname = "c"\n[[class.session]]\nid = "t1"\ncolour = "red"\n' >"$tmp/typo.toml"

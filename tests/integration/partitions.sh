@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 17: one DDS partition per session, with one hapsim-bridge process per
+# One DDS partition per session, with one hapsim-bridge process per
 # device (the classroom topology). Two sessions, two bridges: each bridge
 # receives its own session's models and none of the other's; then session A
 # is closed while its bridge keeps publishing: that bridge gets nothing back

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The on-screen viewer under Xvfb (issue 14): server + synthetic bridge +
+# The on-screen viewer under Xvfb: server + synthetic bridge +
 # hapsim-viewer in a real GLFW window. Pictures before and during a press of
 # the needle on the acupuncture skin (1.5 mm: a dimple, the skin punctures
 # at ~2.6 mm) are checked by check_viewer_gui.py against the camera model

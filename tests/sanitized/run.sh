@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Unit, service, bridge and viewer tests under AddressSanitizer +
-# UndefinedBehaviorSanitizer (issue 15), in CI after the release ctest.
+# UndefinedBehaviorSanitizer, in CI after the release ctest.
 # Usage: tests/sanitized/run.sh
 # It reuses the fuzz tree (build-fuzz: clang, ASan + UBSan on every target,
 # see tests/fuzz/run.sh), so CI compiles the libraries once for both the

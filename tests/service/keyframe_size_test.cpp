@@ -1,4 +1,4 @@
-// Any mesh the server accepts must reach every viewer (issue 15): the
+// Any mesh the server accepts must reach every viewer: the
 // keyframe of each scene at its largest accepted mesh fits gRPC's default
 // 4 MiB receive limit, so a client written from the contract alone (with
 // default channel arguments) can take it.

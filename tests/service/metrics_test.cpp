@@ -1,6 +1,6 @@
 // GET /metrics: Prometheus text that a scraper can parse, whose numbers are
 // the server's own counters, and an endpoint that answers garbage with a
-// status and keeps serving (issue 13's metrics, first part).
+// status and keeps serving.
 #include "hapsim/service/metrics.h"
 
 #include <unistd.h>

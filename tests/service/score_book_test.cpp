@@ -1,5 +1,5 @@
-// ScoreBook: what clients can make the server keep is bounded (issue 15,
-// reliability.md gap 8), and refusing more loses nothing already kept.
+// ScoreBook: what clients can make the server keep is bounded
+// (docs/reliability.md, gap 8), and refusing more loses nothing already kept.
 #include "hapsim/service/score_book.h"
 
 #include <gtest/gtest.h>

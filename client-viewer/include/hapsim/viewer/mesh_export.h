@@ -1,4 +1,4 @@
-// The viewer's mesh out to files other tools open (issue 14, "export"):
+// The viewer's mesh out to files other tools open:
 //   .obj   Wavefront OBJ, one object per part (Blender, MeshLab)
 //   .gltf  glTF 2.0, JSON with the buffer embedded (base64); .glb binary.
 //          One mesh, one primitive and one material (named after the part,

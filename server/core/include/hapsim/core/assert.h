@@ -1,5 +1,4 @@
-// The three error tiers of hapsim::core (ARCHITECTURE.md rule 5, after
-// Drake's drake_assert.h):
+// The three error tiers of hapsim::core (after Drake's drake_assert.h):
 //  1. bad user input (parameters, meshes) throws a typed error at the edge,
 //     in a ...Def -> Build or a Parse function — never inside a step;
 //  2. a numerical blow-up inside a step is detected, counted and recovered

@@ -1,7 +1,8 @@
 // StateHasher: 64-bit FNV-1a over the exact bytes of the values added, in
 // the order added — the one byte hash the core uses for determinism checks
-// (ARCHITECTURE.md rule 6): equal hashes <=> (almost surely) bit-identical
-// states, so -0.0 and 0.0, or two NaN payloads, hash differently.
+// (same inputs, same hash on every run, thread count and machine): equal
+// hashes <=> (almost surely) bit-identical states, so -0.0 and 0.0, or two
+// NaN payloads, hash differently.
 //
 //   StateHasher h;
 //   h.Add(state.t_s).Add(state.x_m).Add(contact_flag);

@@ -7,8 +7,7 @@
 // out of range is an error naming the line. Debian's tinyobjloader 2.0rc10
 // was considered and not used for this: it reads "v 1 2" and "v 1 2 x" as
 // vertices without complaint and reports out-of-range face indices only as a
-// warning (checked 2026-11-23) — a malformed mesh must be refused, not
-// simulated.
+// warning — a malformed mesh must be refused, not simulated.
 #pragma once
 #include <stdexcept>
 #include <string>

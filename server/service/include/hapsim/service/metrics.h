@@ -1,8 +1,8 @@
 // Prometheus text exposition (format 0.0.4) of the server's counters, and a
-// minimal HTTP endpoint serving it at GET /metrics (issue 13, first part;
-// prometheus-cpp is not in Debian). Every metric is documented in
-// docs/metrics.md. Not exported: device round trips (the bridges measure
-// them, not the server).
+// minimal HTTP endpoint serving it at GET /metrics (hand-written on Asio;
+// moving to Debian's prometheus-cpp is open work). Every metric is
+// documented in docs/metrics.md. Not exported: device round trips (the
+// bridges measure them, not the server).
 #pragma once
 #include <atomic>
 #include <functional>

@@ -1,5 +1,5 @@
 // TickInput: everything one session tick reads, assembled once at the start
-// of the tick (ARCHITECTURE.md rule 4: one input point per step). The step is
+// of the tick (one input point per step). The step is
 // a function of (scene, TickInput, period) alone — StepScene() below — so
 // feeding the same TickInput sequence to a fresh scene reaches the same
 // Scene::StateHash(). It is also the record a recording stores.

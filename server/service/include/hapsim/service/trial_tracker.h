@@ -1,5 +1,5 @@
-// A trial's automatic metrics (issue 13, "assessment"), accumulated on the
-// session's tick from what the scene reports each tick. A trial runs from
+// A trial's automatic metrics (for the instructor's assessment), accumulated
+// on the session's tick from what the scene reports each tick. A trial runs from
 // the session's creation or its last reset to the next reset or its close.
 //
 //   every scene   duration, time to first contact, peak |tool force|, deepest tip

@@ -1,6 +1,6 @@
 // Meshless point-primitive elasticity after Müller et al. 2004, "Point based
-// animation of elastic, plastic and melting objects" (vascular paper §2.1;
-// MISSION.md §3): Def -> BuildMeshlessModel -> MeshlessModel (immutable,
+// animation of elastic, plastic and melting objects" (vascular paper, Zhang
+// et al. 2021, §2.1): Def -> BuildMeshlessModel -> MeshlessModel (immutable,
 // everything that depends on the rest state only), forces in
 // meshless_forces.h.
 //

@@ -1,5 +1,5 @@
 // A surface mesh that follows the meshless nodes by moving least squares
-// (vascular paper §2.3; MISSION.md §3): each surface vertex X moves with the
+// (vascular paper, Zhang et al. 2021, §2.3): each surface vertex X moves with the
 // nodes I within d_m of it at rest,
 //   x(X) = sum_I phi_I(X) x_I,   phi_I(X) = p(X)^T A(X)^-1 w(|X - x_I| / d_m) p(x_I),
 //   A(X) = sum_I w(..) p(x_I) p(x_I)^T,   p = (1, x, y, z)   (linear basis),

@@ -1,4 +1,4 @@
-// The two test problems of the gingival-tissue paper (seed 004), with closed
+// The two test problems of the gingival-tissue paper (Li et al. 2020), with closed
 // forms, shared by `hapsim-validate integrators` and the tests.
 #pragma once
 #include <cmath>

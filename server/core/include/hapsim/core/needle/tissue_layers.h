@@ -1,12 +1,12 @@
 // The acupuncture paper's three tissue layers (Table 2) in SI units, and the
 // Table 1 shaft damping that accumulates layer by layer along the needle.
 //
-// [decide] Units of d (MISSION.md §1): the paper lists d in N·s/m but
+// [decide] Units of d (Table 1): the paper lists d in N·s/m but
 // multiplies it by a depth h. We read d as damping per millimetre of shaft
 // inserted: F = d [N·s/m per mm] · h [mm] · v [m/s], i.e. in SI
 //   d_SI [N·s/m²] = d_paper · 1000.
 // Skin (d = 3) then gives 3000 N·s/m² · 5 mm/s = 0.015 N per mm inserted
-// at 5 mm/s — shaft friction of order 1e-2 N per mm, as the mission asks.
+// at 5 mm/s — shaft friction of order 1e-2 N per mm, the order we target.
 #pragma once
 #include <array>
 #include <string>
@@ -37,7 +37,7 @@ inline constexpr double kReferenceNeedleDiameter_m = 3e-4;
 // Table 2: skin 0.8 mm / 0.16 N/mm / d 3 / w 8 / L 2 mm; fat 8.4 / 0.08 / 1 /
 // 4 / 1; muscle 39 / 0.23 / 3 / 10 / 2.5. Shaft Coulomb friction (not in the
 // paper; docs/validation.md#shaft-friction): skin 10, fat 5, muscle 15 N per
-// metre inserted — of order 1e-2 N per mm, the order the mission sets for
+// metre inserted — of order 1e-2 N per mm, the order we target for
 // shaft friction (0.36 N at 30 mm, above a Phantom Omni's ~0.26 N
 // backdrive friction, so it is felt). Puncture forces (not in the paper's
 // tables): skin 1.0 N, fat 0.2 N, muscle (fascia) 1.5 N.

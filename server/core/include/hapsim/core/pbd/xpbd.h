@@ -1,5 +1,5 @@
 // Extended position-based dynamics (XPBD; Macklin, Müller, Chentanez 2016)
-// for the vascular paper's constraints (§2.2; MISSION.md §3). Def -> Build ->
+// for the vascular paper's constraints (Zhang et al. 2021, §2.2). Def -> Build ->
 // State -> Step, no allocation in a step.
 //
 // Departure from the paper, and why: the paper projects its constraints with

@@ -2,7 +2,7 @@
 // ...). The service drives it once per tick: Step(tool, dt) with the latest
 // tool pose, then reads the mesh, the force model for the device and events.
 //
-// Contract (ARCHITECTURE.md rules 1, 4, 5):
+// Contract:
 //  - built by MakeScene() from a SceneSpec; bad parameters throw
 //    std::invalid_argument with a message naming the parameter;
 //  - after construction Step() never throws and never allocates;

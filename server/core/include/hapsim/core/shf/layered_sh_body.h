@@ -1,9 +1,10 @@
 // Nested star-shaped SH surfaces around one centre: the radial inside/outside
-// and depth query of MISSION.md §1. For a star-shaped layer fitted with the
-// radial parametrisation (sh_fit.h), the surface radius in direction u is
-// r(u) = x̂(u)·u and a point p is inside when |p - c| < r(u_p); its radial
-// depth below the surface is r(u_p) - |p - c|. One basis evaluation serves
-// every layer, so a query costs O(k) per layer, independent of any mesh.
+// and depth query of the acupuncture paper's SHF tissue layers. For a
+// star-shaped layer fitted with the radial parametrisation (sh_fit.h), the
+// surface radius in direction u is r(u) = x̂(u)·u and a point p is inside
+// when |p - c| < r(u_p); its radial depth below the surface is
+// r(u_p) - |p - c|. One basis evaluation serves every layer, so a query costs
+// O(k) per layer, independent of any mesh.
 #pragma once
 #include <vector>
 

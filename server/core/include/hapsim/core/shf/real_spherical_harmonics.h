@@ -6,7 +6,7 @@
 //   Y_{l,-m} = √2 N_l^m P_l^m(cos θ) sin(m φ)      m > 0
 // where N_l^m P_l^m = std::sph_legendre(l, m, θ), i.e. orthonormal on the
 // unit sphere and *including* the Condon–Shortley phase (-1)^m. Spans the
-// same space as the paper's complex Y_l^m (MISSION.md §1), no complex maths.
+// same space as the acupuncture paper's complex Y_l^m, no complex maths.
 // Column index (0-based) j = l² + l + m, k = (Lmax + 1)² columns.
 //
 // Values come from the stable three-term recurrence of the normalised

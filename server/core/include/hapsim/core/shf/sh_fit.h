@@ -1,8 +1,9 @@
 // Least-squares fit of SH surface coefficients from sampled surface points
-// (paper eq. 4): for n samples with parameters (θ_i, φ_i) and positions p_i,
-// build Y (n x k), Y_ij = Y_j(θ_i, φ_i), and solve Y c ≈ p for x, y and z.
+// (the acupuncture paper's eq. 4): for n samples with parameters (θ_i, φ_i)
+// and positions p_i, build Y (n x k), Y_ij = Y_j(θ_i, φ_i), and solve
+// Y c ≈ p for x, y and z.
 //
-// Parametrisation [decide, MISSION.md §1]: a sampled surface has no (θ,φ) of
+// Parametrisation [decide]: a sampled surface has no (θ,φ) of
 // its own; for star-shaped layers we use the radial projection from a centre
 // (RadialAngles): θ,φ = angles of p - c. That makes x̂(u) - c ≈ r(u)·u, which
 // is what the radial depth query needs. Surfaces with a natural

@@ -1,4 +1,4 @@
-// A closed surface as spherical harmonics (MISSION.md §1, paper eq. 3–5):
+// A closed surface as spherical harmonics (the acupuncture paper's eq. 3–5):
 // each coordinate x, y, z of the surface point is Σ_{l<=Lmax} Σ_m c_lm Y_lm(θ,φ)
 // in the real basis of real_spherical_harmonics.h.
 #pragma once

@@ -1,4 +1,5 @@
-// acupuncture: the acupuncture paper's model (MISSION.md §1) as a Scene.
+// acupuncture: the acupuncture paper's model (three SHF tissue layers under a
+// mass-spring force net, CMC 2021) as a Scene.
 //
 // Tissue: a limb-like body part (shf/limb_segment.h) whose skin top is at the
 // world origin (outward normal +z, tissue below). Four nested star-shaped SH

@@ -1,8 +1,9 @@
-// cutting: the cutting paper's scalpel incision on skin (MISSION.md §2) as a
-// Scene. Skin: cutting/skin_mesh.h (a 60 x 40 mm mass-spring patch, anchored
-// underneath, the paper's Table 1). The scalpel is a cylinder from the tool
-// tip along the tool (paper §2.2); its collisions are found by the paper's
-// two-angle + distance test behind a grid broad phase.
+// cutting: the cutting paper's scalpel incision on skin (mass-spring skin with
+// residual stress, three-stage cut) as a Scene. Skin: cutting/skin_mesh.h
+// (a 60 x 40 mm mass-spring patch, anchored underneath, the paper's Table 1).
+// The scalpel is a cylinder from the tool tip along the tool (paper §2.2); its
+// collisions are found by the paper's two-angle + distance test behind a grid
+// broad phase.
 //
 //   free ──tip below the surface── pressing: the tip-skin penalty pushes the
 //     tool up (reaction on the nodes under the tip), nodes inside the blade

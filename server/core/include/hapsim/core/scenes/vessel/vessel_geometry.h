@@ -1,4 +1,4 @@
-// Vessel generators for the vascular scene (issue 12; vascular paper's
+// Vessel generators for the vascular scene (the vascular paper's
 // straight, bent and twice-bent vessels): a tube wall along a centreline in
 // the horizontal plane, sampled as meshless nodes on `radial_layers` rings
 // from the lumen to the outer radius, and a display surface (outer wall and

@@ -1,5 +1,5 @@
 // vessel: a blood vessel's wall pressed by a catheter / probe tip (vascular
-// paper; MISSION.md §3; issue 12).
+// paper, Zhang et al. 2021).
 //
 // Model, per physics step of h = tick / substeps — one StepXpbd (pbd/xpbd.h,
 // the step the XPBD tests prove):
