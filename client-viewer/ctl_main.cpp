@@ -25,15 +25,14 @@
 
 namespace {
 
+// The help's summary: what the tool does and its commands (the flags follow, listed by Flags).
 constexpr const char* kUsage =
-    "usage: hapsim-ctl [--server HOST:PORT] [--timeout-s S] [--token T | --token-file F]\n"
-    "                  [--tls-ca CA.pem [--tls-cert C.pem --tls-key K.pem] [--tls-server-name N]] COMMAND [ARGS]\n\n"
     "Session control for a hapsim-server (default server 127.0.0.1:50051; every call gives up\n"
     "after --timeout-s seconds, default 10). A server with a class config wants a token: --token,\n"
     "--token-file or the HAPSIM_TOKEN environment variable (docs/classroom.md).\n\ncommands:\n"
     "  scenes                              the scenes a session can run, with every parameter\n"
     "  list                                list sessions with their counters\n"
-    "  create [--id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
+    "  create [ID | --id ID] [--scene NAME] [--owner NAME] [--param KEY=VALUE]...\n"
     "                                      create a session (prints its id)\n"
     "  info ID | close ID | pause ID | resume ID | reset ID\n"
     "  snapshot ID --obj FILE | --export FILE\n"
@@ -50,7 +49,8 @@ constexpr const char* kUsage =
     "                                      restart every session of CLASS with this scene (same ids, trainees)\n"
     "  trials [CLASS] [--csv FILE]          every trial's automatic metrics (depth error, layers, peak forces,\n"
     "                                      incision, line deviation, score) as CSV, to stdout or FILE\n"
-    "  health                              gRPC health check (exit 0 when SERVING)\n";
+    "  health                              gRPC health check (exit 0 when SERVING)\n"
+    "`hapsim-ctl COMMAND --help` lists a command's own flags.";
 
 int Fail(const grpc::Status& s) {
   std::fprintf(stderr, "hapsim-ctl: %s (%d)\n", s.error_message().c_str(), static_cast<int>(s.error_code()));
@@ -83,13 +83,12 @@ void PrintScores(const hapsim::v1::ScoreReport& r) {
   std::printf("class mean score %.4f (%d sessions scored)\n", r.class_mean_score(), r.sessions_size());
 }
 
-// Every "--param KEY=NUMBER" after the command into *params; false (with
-// the message printed) on a malformed one.
-bool AddParamOptions(const std::vector<std::string>& args, google::protobuf::Map<std::string, double>* params) {
-  for (std::size_t i = 1; i + 1 < args.size(); ++i) {
-    if (args[i] != "--param") continue;
-    if (!hapsim::viewer::AddSceneParam(args[i + 1], params)) {
-      std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", args[i + 1].c_str());
+// Every "--param KEY=NUMBER" into *params; false (with the message printed)
+// on a malformed one.
+bool AddParams(const std::vector<std::string>& texts, google::protobuf::Map<std::string, double>* params) {
+  for (const auto& text : texts) {
+    if (!hapsim::viewer::AddSceneParam(text, params)) {
+      std::fprintf(stderr, "hapsim-ctl: --param wants KEY=NUMBER, got '%s'\n", text.c_str());
       return false;
     }
   }
@@ -179,76 +178,134 @@ int Watch(hapsim::v1::SessionService::Stub& stub, const std::string& token, cons
   return s.ok() ? 0 : Fail(s);
 }
 
+// The commands, with what each takes after its name: a session or class id
+// (kOneId, optional when kOptionalId) and its own flags, declared in
+// AddCommandFlags.
+enum class IdArg { kNone, kOneId, kOptionalId };
+const std::map<std::string, IdArg>& Commands() {
+  static const std::map<std::string, IdArg> commands = {
+      {"scenes", IdArg::kNone},       {"list", IdArg::kNone},        {"create", IdArg::kOptionalId},
+      {"health", IdArg::kNone},       {"info", IdArg::kOneId},       {"close", IdArg::kOneId},
+      {"pause", IdArg::kOneId},       {"resume", IdArg::kOneId},     {"reset", IdArg::kOneId},
+      {"snapshot", IdArg::kOneId},    {"score", IdArg::kOneId},      {"join", IdArg::kOneId},
+      {"scores", IdArg::kOptionalId}, {"watch", IdArg::kOptionalId}, {"trials", IdArg::kOptionalId},
+      {"push", IdArg::kOneId},
+  };
+  return commands;
+}
+
+// A command's own flags (all optional strings; each command checks what it needs).
+struct CommandFlags {
+  std::string id, scene, owner, obj, export_file, indicators, expert, rate_hz, count, csv;
+  std::vector<std::string> params;
+};
+
+void AddCommandFlags(const std::string& command, hapsim::common::Flags* f, CommandFlags* c) {
+  if (command == "create") {
+    f->Add("id", &c->id, "session id (empty: the server picks one)");
+    f->Add("scene", &c->scene, "scene to run (empty: tissue_block)");
+    f->Add("owner", &c->owner, "owner's name, shown in lists");
+  }
+  if (command == "push") f->Add("scene", &c->scene, "scene to restart every session with (empty: tissue_block)");
+  if (command == "create" || command == "push") f->AddList("param", &c->params, "scene parameter KEY=NUMBER");
+  if (command == "snapshot") {
+    f->Add("obj", &c->obj, "write the mesh as OBJ to this file, whatever its extension");
+    f->Add("export", &c->export_file, "write the mesh to this file, format by extension: .obj .gltf .glb .vtk");
+  }
+  if (command == "score") {
+    f->Add("indicators", &c->indicators, "7 indicator scores 0..10, comma-separated");
+    f->Add("expert", &c->expert, "the rater's name");
+  }
+  if (command == "watch") {
+    f->Add("rate-hz", &c->rate_hz, "updates per second, [0.1, 50] (empty: the server's default)");
+    f->Add("count", &c->count, "stop after this many updates (empty: until Ctrl-C)");
+  }
+  if (command == "trials") f->Add("csv", &c->csv, "write the CSV to this file (empty: stdout)");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.size() == 1 && args[0] == "--version") {
-    std::fputs(hapsim::common::VersionLine("hapsim-ctl").c_str(), stdout);
-    return 0;
-  }
   hapsim::viewer::Connection connection;
   hapsim::viewer::ConnectionFlags connection_flags;
   double timeout_s = 10.0;
-  const std::map<std::string, std::string*> string_options = {
-      {"--server", &connection.address},         {"--token", &connection.token},
-      {"--token-file", &connection_flags.token_file}, {"--tls-ca", &connection.tls_ca_file},
-      {"--tls-cert", &connection.tls_cert_file}, {"--tls-key", &connection.tls_key_file},
-      {"--tls-server-name", &connection.tls_server_name}};
-  while (args.size() >= 2 && (string_options.count(args[0]) || args[0] == "--timeout-s")) {
-    if (args[0] != "--timeout-s") {
-      *string_options.at(args[0]) = args[1];
-    } else {
-      char* end = nullptr;
-      timeout_s = std::strtod(args[1].c_str(), &end);
-      if (args[1].empty() || *end != '\0' || !(timeout_s > 0.0 && timeout_s <= 3600.0)) {
-        std::fprintf(stderr, "hapsim-ctl: --timeout-s wants seconds in (0, 3600], got '%s'\n", args[1].c_str());
-        return 2;
-      }
-    }
-    args.erase(args.begin(), args.begin() + 2);
+  hapsim::common::Flags flags("hapsim-ctl", kUsage, "[flags] COMMAND [ID] [command flags]");
+  flags.Add("server", &connection.address, "server address HOST:PORT");
+  flags.Add("timeout-s", &timeout_s, "every call gives up after this long [s], (0, 3600]");
+  hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
+  std::string error;
+  int command_at = argc;
+  switch (flags.Parse(argc, argv, &error, &command_at)) {
+    case hapsim::common::Flags::Result::kHelp:
+      std::fputs(flags.Help().c_str(), stdout);
+      return 0;
+    case hapsim::common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
+    case hapsim::common::Flags::Result::kError:
+      std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
+      return 2;
+    case hapsim::common::Flags::Result::kOk:
+      break;
   }
-  if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
-    std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
+  if (const std::string bad =
+          hapsim::common::FirstFlagOutOfRange({{timeout_s > 0.0 && timeout_s <= 3600.0, "--timeout-s", "(0, 3600]"}});
+      !bad.empty()) {
+    std::fprintf(stderr, "hapsim-ctl: %s\n", bad.c_str());
     return 2;
   }
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fputs(kUsage, args.empty() ? stderr : stdout);
-    return args.empty() ? 2 : 0;
+  if (command_at >= argc) {
+    std::fputs(flags.Help().c_str(), stderr);
+    return 2;
   }
-  const std::string command = args[0];
-  // Named options after the command: --key value
-  auto option = [&](const std::string& name) -> std::string {
-    for (std::size_t i = 1; i + 1 < args.size(); ++i) {
-      if (args[i] == name) return args[i + 1];
-    }
-    return "";
-  };
-  auto positional = [&]() -> std::string { return args.size() >= 2 && args[1].rfind("--", 0) != 0 ? args[1] : ""; };
-  // Every option after the command must be one the command takes, with a
-  // value: a typo is an error, never a silent default.
-  const std::map<std::string, std::set<std::string>> options_of = {
-      {"create", {"--id", "--scene", "--owner", "--param"}},
-      {"snapshot", {"--obj", "--export"}},
-      {"score", {"--indicators", "--expert"}},
-      {"watch", {"--rate-hz", "--count"}},
-      {"push", {"--scene", "--param"}},
-      {"trials", {"--csv"}},
-  };
-  {
-    const auto known = options_of.find(command);
-    for (std::size_t i = 1; i < args.size(); ++i) {
-      if (args[i].rfind("--", 0) != 0) continue;
-      if (known == options_of.end() || !known->second.count(args[i])) {
-        std::fprintf(stderr, "hapsim-ctl: %s does not take option '%s'\n%s", command.c_str(), args[i].c_str(), kUsage);
-        return 2;
+  const std::string command = argv[command_at];
+  const auto known = Commands().find(command);
+  if (known == Commands().end()) {
+    std::fprintf(stderr, "hapsim-ctl: unknown command '%s' (see hapsim-ctl --help)\n", command.c_str());
+    return 2;
+  }
+  CommandFlags options;
+  std::vector<std::string> ids;
+  hapsim::common::Flags command_flags("hapsim-ctl " + command,
+                                      "One command of hapsim-ctl (hapsim-ctl --help lists them).",
+                                      known->second == IdArg::kNone    ? "[flags]"
+                                      : known->second == IdArg::kOneId ? "ID [flags]"
+                                                                       : "[ID] [flags]");
+  AddCommandFlags(command, &command_flags, &options);
+  command_flags.AllowPositionals(&ids);
+  switch (command_flags.Parse(argc - command_at, argv + command_at, &error)) {
+    case hapsim::common::Flags::Result::kHelp:
+      std::fputs(command_flags.Help().c_str(), stdout);
+      return 0;
+    case hapsim::common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
+    case hapsim::common::Flags::Result::kError:
+      if (const auto at = error.find("see --help"); at != std::string::npos) {
+        error.replace(at, 10, "see hapsim-ctl " + command + " --help");
       }
-      if (i + 1 >= args.size()) {
-        std::fprintf(stderr, "hapsim-ctl: option '%s' needs a value\n", args[i].c_str());
-        return 2;
-      }
-      ++i;
-    }
+      std::fprintf(stderr, "hapsim-ctl %s: %s\n", command.c_str(), error.c_str());
+      return 2;
+    case hapsim::common::Flags::Result::kOk:
+      break;
+  }
+  if (known->second == IdArg::kNone && !ids.empty()) {
+    std::fprintf(stderr, "hapsim-ctl %s: takes no id, got '%s'\n", command.c_str(), ids[0].c_str());
+    return 2;
+  }
+  if (ids.size() > 1) {
+    std::fprintf(stderr, "hapsim-ctl %s: takes one id, got '%s' and '%s'\n", command.c_str(), ids[0].c_str(),
+                 ids[1].c_str());
+    return 2;
+  }
+  if (known->second == IdArg::kOneId && ids.empty()) {
+    std::fprintf(stderr, "hapsim-ctl: %s needs a session id\n", command.c_str());
+    return 2;
+  }
+  const std::string id = ids.empty() ? "" : ids[0];
+  if (!hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+    std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
+    return 2;
   }
 
   std::shared_ptr<grpc::Channel> channel;
@@ -259,7 +316,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   auto stub = hapsim::v1::SessionService::NewStub(channel);
-  if (command == "watch") return Watch(*stub, connection.token, positional(), option("--rate-hz"), option("--count"));
+  if (command == "watch") return Watch(*stub, connection.token, id, options.rate_hz, options.count);
   grpc::ClientContext ctx;
   hapsim::viewer::AddToken(&ctx, connection.token);
   ctx.set_deadline(std::chrono::system_clock::now() +
@@ -317,21 +374,24 @@ int main(int argc, char** argv) {
   }
   if (command == "create") {
     hapsim::v1::CreateSessionRequest req;
-    req.set_session_id(option("--id"));
-    req.set_scene(option("--scene"));
-    req.set_owner(option("--owner"));
-    if (!AddParamOptions(args, req.mutable_params())) return 2;
+    if (!id.empty() && !options.id.empty()) {
+      std::fprintf(stderr, "hapsim-ctl create: give the id once (ID or --id), got '%s' and '%s'\n", id.c_str(),
+                   options.id.c_str());
+      return 2;
+    }
+    req.set_session_id(id.empty() ? options.id : id);
+    req.set_scene(options.scene);
+    req.set_owner(options.owner);
+    if (!AddParams(options.params, req.mutable_params())) return 2;
     hapsim::v1::SessionInfo info;
     const auto s = stub->CreateSession(&ctx, req, &info);
     if (!s.ok()) return Fail(s);
     PrintInfo(info);
     return 0;
   }
-  const std::string id = positional();
   hapsim::v1::SessionRef ref;
   ref.set_session_id(id);
   if (command == "info" || command == "pause" || command == "resume" || command == "reset") {
-    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: %s needs a session id\n", command.c_str()); return 2; }
     hapsim::v1::SessionInfo info;
     grpc::Status s;
     if (command == "info") s = stub->GetSession(&ctx, ref, &info);
@@ -343,7 +403,6 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "close") {
-    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: close needs a session id\n"); return 2; }
     hapsim::v1::CloseSessionResponse r;
     const auto s = stub->CloseSession(&ctx, ref, &r);
     if (!s.ok()) return Fail(s);
@@ -351,9 +410,12 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "snapshot") {
-    const bool as_obj = !option("--obj").empty();  // --obj FILE: OBJ whatever the extension
-    const std::string obj = as_obj ? option("--obj") : option("--export");
-    if (id.empty() || obj.empty()) { std::fprintf(stderr, "hapsim-ctl: snapshot ID --obj FILE | --export FILE\n"); return 2; }
+    const bool as_obj = !options.obj.empty();  // --obj FILE: OBJ whatever the extension
+    const std::string obj = as_obj ? options.obj : options.export_file;
+    if (obj.empty() || (as_obj && !options.export_file.empty())) {
+      std::fprintf(stderr, "hapsim-ctl: snapshot ID --obj FILE | --export FILE\n");
+      return 2;
+    }
     hapsim::v1::MeshSnapshot snap;
     const auto s = stub->GetSnapshot(&ctx, ref, &snap);
     if (!s.ok()) return Fail(s);
@@ -363,17 +425,17 @@ int main(int argc, char** argv) {
     for (const auto p : snap.triangle_parts()) mesh.triangle_parts.push_back(static_cast<std::uint16_t>(p));
     mesh.part_names.assign(snap.part_names().begin(), snap.part_names().end());
     if (mesh.triangle_parts.size() * 3 != mesh.triangles.size()) mesh.part_names.clear();  // an older server: one group
-    std::string error;
+    std::string write_error;
     const std::string comment = "hapsim snapshot of " + id + " at sim time " + std::to_string(snap.sim_time_s());
     bool written;
     if (as_obj) {
       written = hapsim::viewer::WriteObj(obj, mesh, comment);
-      if (!written) error = "cannot write " + obj;
+      if (!written) write_error = "cannot write " + obj;
     } else {
-      written = hapsim::viewer::WriteMeshFile(obj, mesh, comment, &error);
+      written = hapsim::viewer::WriteMeshFile(obj, mesh, comment, &write_error);
     }
     if (!written) {
-      std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
+      std::fprintf(stderr, "hapsim-ctl: %s\n", write_error.c_str());
       return 1;
     }
     std::printf("wrote %s: %d vertices, %d triangles, sim time %.3f s\n", obj.c_str(), snap.positions_m_size() / 3,
@@ -383,8 +445,8 @@ int main(int argc, char** argv) {
   if (command == "score") {
     hapsim::v1::SubmitScoresRequest req;
     req.set_session_id(id);
-    req.set_expert(option("--expert"));
-    if (id.empty() || !ParseIndicators(option("--indicators"), &req)) {
+    req.set_expert(options.expert);
+    if (!ParseIndicators(options.indicators, &req)) {
       std::fprintf(stderr, "hapsim-ctl: score ID --indicators a,b,c,d,e,f,g [--expert NAME]\n");
       return 2;
     }
@@ -404,7 +466,6 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "join") {
-    if (id.empty()) { std::fprintf(stderr, "hapsim-ctl: join needs a session id\n"); return 2; }
     hapsim::v1::JoinSessionResponse r;
     const auto s = stub->JoinSession(&ctx, ref, &r);
     if (!s.ok()) return Fail(s);
@@ -420,7 +481,7 @@ int main(int argc, char** argv) {
     hapsim::v1::TrialReport r;
     const auto s = stub->GetTrials(&ctx, q, &r);
     if (!s.ok()) return Fail(s);
-    const std::string file = option("--csv");
+    const std::string& file = options.csv;
     if (file.empty()) {
       std::fputs(r.csv().c_str(), stdout);
       return 0;
@@ -436,8 +497,8 @@ int main(int argc, char** argv) {
   if (command == "push") {
     hapsim::v1::PushScenarioRequest req;
     req.set_class_name(id);
-    req.set_scene(option("--scene"));
-    if (!AddParamOptions(args, req.mutable_params())) return 2;
+    req.set_scene(options.scene);
+    if (!AddParams(options.params, req.mutable_params())) return 2;
     hapsim::v1::PushScenarioResponse r;
     const auto s = stub->PushScenario(&ctx, req, &r);
     if (!s.ok()) return Fail(s);
@@ -446,6 +507,6 @@ int main(int argc, char** argv) {
                 r.sessions_size());
     return 0;
   }
-  std::fprintf(stderr, "hapsim-ctl: unknown command '%s'\n%s", command.c_str(), kUsage);
+  std::fprintf(stderr, "hapsim-ctl: command '%s' has no handler\n", command.c_str());
   return 2;
 }

@@ -3,11 +3,18 @@
 # the whole chain on loopback for about 10 s — physics server, a synthetic
 # device-bridge doing needle insertions, a headless viewer — and print a
 # short summary. Environment: DEMO_SECONDS (default 10), DEMO_SCENE
-# (default tissue_block; see `build/bin/hapsim-ctl scenes`).
+# (default tissue_block; see `build/bin/hapsim-ctl scenes`), DEMO_DDS_DOMAIN
+# (default: one picked at random in 100-149, so two demos, or a demo beside a
+# server on the default domain 0, do not share a domain; the summary prints it).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${DEMO_SECONDS:-10}
 scene=${DEMO_SCENE:-tissue_block}
+domain=${DEMO_DDS_DOMAIN:-$((100 + RANDOM % 50))}
+case "$domain" in
+  ''|*[!0-9]*) echo "demo: DEMO_DDS_DOMAIN must be a number in 0-232, not '$domain'" >&2; exit 2 ;;
+esac
+[ "$domain" -le 232 ] || { echo "demo: DEMO_DDS_DOMAIN must be in 0-232 (DDS's limit), not $domain" >&2; exit 2; }
 "$root/deploy/install-deps.sh"
 "$root/deploy/build.sh"
 bin="$root/build/bin"
@@ -16,8 +23,8 @@ pids=()
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
-echo "demo: starting server, device-bridge and viewer on 127.0.0.1 for ${seconds} s (scene ${scene})"
-"$bin/hapsim-server" --listen 127.0.0.1:0 --port-file "$out/port" --sessions "demo:$scene" \
+echo "demo: starting server, device-bridge and viewer on 127.0.0.1 for ${seconds} s (scene ${scene}, DDS domain ${domain})"
+"$bin/hapsim-server" --listen 127.0.0.1:0 --port-file "$out/port" --sessions "demo:$scene" --dds-domain "$domain" \
     >"$out/server.out" 2>"$out/server.log" &
 server=$!; pids+=("$server")
 for _ in $(seq 1 100); do [ -s "$out/port" ] && break; sleep 0.1; done
@@ -38,7 +45,7 @@ script_args=(--script insertion --start-height-mm 5 --depth-mm 5 --speed-mm-s 10
 [ "$scene" = cutting ] && script_args=(--script cut --start-height-mm 5 --depth-mm 1.5 --speed-mm-s 10 --entry-x-mm -10 --cut-length-mm 20 --keep-running)
 # Probe the dorsal vein's crest 2 mm deep (of its 3.3 mm outer diameter) at 5 mm/s.
 [ "$scene" = vessel ] && script_args=(--script insertion --start-height-mm 3 --depth-mm 2 --speed-mm-s 5 --hold-s 0.5)
-"$bin/hapsim-bridge" --session demo "${script_args[@]}" --seconds "$seconds" --trace "$out/trace.csv" \
+"$bin/hapsim-bridge" --session demo --dds-domain "$domain" "${script_args[@]}" --seconds "$seconds" --trace "$out/trace.csv" \
     >"$out/bridge.out" 2>"$out/bridge.log" &
 bridge=$!; pids+=("$bridge")
 wait "$bridge"
@@ -68,7 +75,7 @@ cuts=$(field 'viewer: \(frames with topology edits .*\)' "$out/viewer.out")
 
 cat <<SUMMARY
 
-hapsim demo summary (${seconds} s on loopback, scene ${scene})
+hapsim demo summary (${seconds} s on loopback, scene ${scene}, DDS domain ${domain})
   sessions            ${sessions} (demo: ${ticks} ticks at 1 kHz, ${late} late ticks)
   pose rate           ${loop} from the bridge; ${poses} poses accepted by the server
   force-model RTT     ${rtt} ms (${models} models received by the bridge)

@@ -4,6 +4,7 @@
 # Usage: flag_errors.sh BIN_DIR
 set -uo pipefail
 bin=${1:?usage: $0 BIN_DIR}
+here=$(cd "$(dirname "$0")" && pwd)
 failures=0
 # expect CODE PATTERN COMMAND...: exit code CODE and stderr matching PATTERN.
 expect() {
@@ -16,9 +17,16 @@ expect() {
     echo "FAIL $* -> exit $rc (want $code), stderr: $err"; failures=$((failures + 1))
   fi
 }
-expect 2 "create does not take option '--scen'" "$bin/hapsim-ctl" --server 127.0.0.1:9 create --scen cutting
-expect 2 "list does not take option '--id'" "$bin/hapsim-ctl" --server 127.0.0.1:9 list --id x
-expect 2 "option '--obj' needs a value" "$bin/hapsim-ctl" --server 127.0.0.1:9 snapshot s1 --obj
+expect 2 "hapsim-ctl create: unknown flag --scen (see hapsim-ctl create --help)" "$bin/hapsim-ctl" \
+    --server 127.0.0.1:9 create --scen cutting
+expect 2 "hapsim-ctl list: unknown flag --id (see hapsim-ctl list --help)" "$bin/hapsim-ctl" --server 127.0.0.1:9 \
+    list --id x
+expect 2 "hapsim-ctl snapshot: flag --obj needs a value" "$bin/hapsim-ctl" --server 127.0.0.1:9 snapshot s1 --obj
+expect 2 "hapsim-ctl list: takes no id, got 'x'" "$bin/hapsim-ctl" --server 127.0.0.1:9 list x
+expect 2 "hapsim-ctl info: takes one id, got 'a' and 'b'" "$bin/hapsim-ctl" --server 127.0.0.1:9 info a b
+expect 0 "usage: hapsim-ctl create \[ID\] \[flags\]" bash -c '"$0" create --help >&2' "$bin/hapsim-ctl"
+expect 2 "give the id once (ID or --id), got 'a' and 'b'" "$bin/hapsim-ctl" --server 127.0.0.1:9 create a --id b
+expect 2 "snapshot ID --obj FILE | --export FILE" "$bin/hapsim-ctl" --server 127.0.0.1:9 snapshot s1
 expect 2 "--frame-rate-hz must be within (0, 1000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --frame-rate-hz 0
 expect 2 "--pose-timeout-ms must be within (0, 60000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --pose-timeout-ms 1e18
 expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.0.0.1:0 --quantum-mm 5
@@ -77,15 +85,20 @@ expect 2 "needs TLS: give --tls-ca too" "$bin/hapsim-viewer" --session s --tls-c
 expect 2 "--count wants a whole number" "$bin/hapsim-ctl" --server 127.0.0.1:9 watch c --count 0
 # The flag grammar every Flags executable shares (row 72), and --help: usage
 # on stdout, exit 0, for all six executables (rows 72-79).
-for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer; do
+for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl; do
   expect 2 "$prog: unknown flag --frobnicate (see --help)" "$bin/$prog" --frobnicate
+  [ "$prog" = hapsim-ctl ] && continue  # its first argument that is not a flag is the command
   expect 2 "$prog: unexpected argument 'stray' (flags start with --; see --help)" "$bin/$prog" stray
 done
+expect 2 "bad value 'soon' for --timeout-s (see --help)" "$bin/hapsim-ctl" --timeout-s=soon list
 for prog in hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate; do
   expect 0 "usage: $prog" bash -c '"$0" --help >&2' "$bin/$prog"
   expect 0 "^$prog [0-9]*\.[0-9]*\.[0-9]*$" bash -c '"$0" --version >&2' "$bin/$prog"
 done
 expect 2 "bad value 'abc' for --seconds (see --help)" "$bin/hapsim-bridge" --seconds abc
+# The demo's DDS domain (DEMO_DDS_DOMAIN) is checked before anything is installed or built.
+expect 2 "DEMO_DDS_DOMAIN must be a number in 0-232, not 'x'" env DEMO_DDS_DOMAIN=x "$here/../../deploy/demo.sh"
+expect 2 "DEMO_DDS_DOMAIN must be in 0-232 (DDS's limit), not 300" env DEMO_DDS_DOMAIN=300 "$here/../../deploy/demo.sh"
 expect 2 "bad value '5x' for --frame-rate-hz (see --help)" "$bin/hapsim-server" --frame-rate-hz 5x
 expect 2 "bad value '99999999999' for --devices (see --help)" "$bin/hapsim-load" --devices 99999999999
 expect 2 "flag --seconds needs a value (see --help)" "$bin/hapsim-bridge" --seconds
@@ -98,9 +111,9 @@ expect 2 "--interval-s must be within 0 (off) or \[0.1, 1e7\]" "$bin/hapsim-load
 expect 2 "--intervals-csv needs --interval-s" "$bin/hapsim-load" --intervals-csv "${TMPDIR:-/tmp}/x.csv"
 # hapsim-ctl's own mistakes (row 78).
 expect 2 "usage: hapsim-ctl" "$bin/hapsim-ctl"
-expect 2 "unknown command 'frob'" "$bin/hapsim-ctl" --server 127.0.0.1:9 frob
+expect 2 "unknown command 'frob' (see hapsim-ctl --help)" "$bin/hapsim-ctl" --server 127.0.0.1:9 frob
 expect 2 "close needs a session id" "$bin/hapsim-ctl" --server 127.0.0.1:9 close
-expect 2 "--timeout-s wants seconds in (0, 3600], got '0'" "$bin/hapsim-ctl" --timeout-s 0 list
+expect 2 "--timeout-s must be within (0, 3600\] (see --help)" "$bin/hapsim-ctl" --timeout-s 0 list
 expect 2 "--param wants KEY=NUMBER, got 'k'" "$bin/hapsim-ctl" --server 127.0.0.1:9 create s --param k
 # A file the process cannot use stops it with exit 1 naming the file
 # (docs/reliability.md rows 66, 69, 70, 71, 79, 80).

@@ -14,8 +14,8 @@ std::string FormatDouble(double v) {
 }
 }  // namespace
 
-Flags::Flags(std::string program, std::string summary)
-    : program_(std::move(program)), summary_(std::move(summary)) {}
+Flags::Flags(std::string program, std::string summary, std::string synopsis)
+    : program_(std::move(program)), summary_(std::move(summary)), synopsis_(std::move(synopsis)) {}
 
 void Flags::Add(const std::string& name, std::string* value, const std::string& help) {
   flags_.push_back({name, help, value->empty() ? "\"\"" : *value, false,
@@ -50,13 +50,29 @@ void Flags::Add(const std::string& name, bool* value, const std::string& help) {
                     }});
 }
 
+void Flags::AddList(const std::string& name, std::vector<std::string>* values, const std::string& help) {
+  flags_.push_back({name, help + "; may be repeated", "none", false, [values](const std::string& s) {
+                      values->push_back(s);
+                      return true;
+                    }});
+}
+
 std::string VersionLine(const std::string& program) { return program + " " + HAPSIM_VERSION + "\n"; }
 
-Flags::Result Flags::Parse(int argc, char** argv, std::string* error) {
+Flags::Result Flags::Parse(int argc, char** argv, std::string* error, int* command_at) {
+  if (command_at) *command_at = argc;
   for (int i = 1; i < argc; ++i) {
     std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") return Result::kHelp;
     if (arg == "--version") return Result::kVersion;
+    if (arg.rfind("--", 0) != 0 && command_at) {
+      *command_at = i;
+      return Result::kOk;
+    }
+    if (arg.rfind("--", 0) != 0 && positionals_) {
+      positionals_->push_back(arg);
+      continue;
+    }
     if (arg.rfind("--", 0) != 0) {
       *error = "unexpected argument '" + arg + "' (flags start with --; see --help)";
       return Result::kError;
@@ -100,7 +116,7 @@ std::string FirstFlagOutOfRange(std::initializer_list<FlagRange> ranges) {
 
 std::string Flags::Help() const {
   std::ostringstream out;
-  out << "usage: " << program_ << " [flags]\n\n" << summary_ << "\n\nflags:\n";
+  out << "usage: " << program_ << " " << synopsis_ << "\n\n" << summary_ << "\n\nflags:\n";
   for (const auto& f : flags_) {
     std::string lhs = "  --" + f.name + (f.is_switch ? "" : " VALUE");
     out << lhs;

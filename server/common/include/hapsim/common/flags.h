@@ -1,6 +1,8 @@
 // Minimal command-line flags: --name value / --name=value / --bool-flag.
 // Every executable declares its flags with help text, so --help always
-// documents every flag with its default.
+// documents every flag with its default. A tool with commands (hapsim-ctl)
+// parses its global flags up to the command, then the command's own flags
+// with a second Flags over the rest: one grammar and one set of messages.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -15,17 +17,25 @@ std::string VersionLine(const std::string& program);
 
 class Flags {
  public:
-  Flags(std::string program, std::string summary);
+  // synopsis: what follows the program name in the usage line.
+  Flags(std::string program, std::string summary, std::string synopsis = "[flags]");
 
   void Add(const std::string& name, std::string* value, const std::string& help);
   void Add(const std::string& name, double* value, const std::string& help);
   void Add(const std::string& name, int* value, const std::string& help);
   void Add(const std::string& name, bool* value, const std::string& help);  // switch
+  // A flag that may be given many times; each value is appended.
+  void AddList(const std::string& name, std::vector<std::string>* values, const std::string& help);
+  // Arguments that are not flags are appended to *out instead of being an
+  // error (e.g. a command's session id).
+  void AllowPositionals(std::vector<std::string>* out) { positionals_ = out; }
 
   enum class Result { kOk, kHelp, kVersion, kError };
   // On kHelp the caller prints Help() and exits 0, on kVersion Version(); on
   // kError, *error says what was wrong and the caller exits 2.
-  Result Parse(int argc, char** argv, std::string* error);
+  // With command_at, parsing stops at the first argument that is not a flag
+  // and *command_at is its index (argc if there is none).
+  Result Parse(int argc, char** argv, std::string* error, int* command_at = nullptr);
   std::string Help() const;
   std::string Version() const { return VersionLine(program_); }
 
@@ -35,8 +45,9 @@ class Flags {
     bool is_switch = false;
     std::function<bool(const std::string&)> set;  // false: not a valid value
   };
-  std::string program_, summary_;
+  std::string program_, summary_, synopsis_;
   std::vector<Flag> flags_;
+  std::vector<std::string>* positionals_ = nullptr;
 };
 
 // One flag's range check: ok is the check's result, range is what --help
