@@ -84,14 +84,15 @@ int main(int argc, char** argv) {
       "draws pictures off screen (EGL, no display needed).");
   flags.Add("server", &connection.address, "server gRPC address host:port");
   hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
-  flags.Add("session", &options.session, "session id to watch");
+  options.session.clear();  // "demo" unless --class: see below
+  flags.Add("session", &options.session, "session id to watch (\"\": demo, or with --class the class's first session)");
   flags.Add("name", &options.name, "viewer name shown in server logs");
   flags.Add("headless", &headless,
             kWithGui ? "no window: counts and mesh files; pictures with --png/--plot-png drawn off screen"
                      : "no window (the only mode in this build: built without HAPSIM_WITH_VIEWER_GUI)");
   flags.Add("class", &class_name, "the instructor's class console: every session of this class (window mode)");
   flags.Add("class-rate-hz", &class_rate_hz, "class console update rate [Hz]");
-  flags.Add("png", &png_path, "at the end, write the last picture here as PNG (window, or off screen with --headless)");
+  flags.Add("png", &png_path, "at the end, write the last picture here as PNG (from the window; off screen with --headless or without a display)");
   flags.Add("plot-png", &plot_png_path, "at the end, write the force vs time and force vs depth plots here as PNG");
   flags.Add("size", &size_text, "window or picture size WIDTHxHEIGHT [px]");
   flags.Add("panels", &panels, "draw the panels next to the 3D view (--panels=false: the 3D view only)");
@@ -156,10 +157,15 @@ int main(int argc, char** argv) {
                  camera_text.c_str());
     return 2;
   }
-  if (gui && class_name.empty() && options.session.empty() && replay_path.empty()) {
-    std::fprintf(stderr, "hapsim-viewer: give --session, --class or --replay\n");
+  if (!class_name.empty() && !gui) {
+    std::fprintf(stderr,
+                 "hapsim-viewer: --class is the window's instructor console: drop --headless, or add --png "
+                 "to draw it off screen\n");
     return 2;
   }
+  // The instructor's console without --session opens the class's first
+  // session once the class lists one; anything else defaults to "demo".
+  if (options.session.empty() && class_name.empty()) options.session = "demo";
   using hapsim::common::kMaxFlagSeconds;
   const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
       {frames >= 0, "--frames", ">= 0"},
@@ -200,6 +206,8 @@ int main(int argc, char** argv) {
     gui_options.record_path = record_path;
     gui_options.png_path = png_path;
     gui_options.plot_png_path = plot_png_path;
+    gui_options.obj_path = obj_path;
+    gui_options.export_path = export_path;
     gui_options.headless = headless;
     gui_options.panels = panels;
     gui_options.vsync = vsync;

@@ -56,6 +56,10 @@ if os.path.exists(f"{work}/console.rc"):  # built with the viewer GUI
     image = read_png(f"{work}/console.png")
     colours = {pixel(image, x, y) for x in range(0, 1280, 16) for y in range(0, 720, 16)}
     check(len(colours) > 50, f"the console picture is not blank ({len(colours)} colours on a 16 px grid)")
+    first = open(f"{work}/console_first.out").read()
+    m = re.search(r"viewer: session (\S*), frames (\d+)", first)
+    check(rc("console_first") == 0 and m is not None and m.group(1) == "t1" and int(m.group(2)) > 50,
+          f"a console without --session opened the class's first trainee ({m.group(0) if m else first.strip()!r})")
 check(rc("observer_reset") != 0 and "(7)" in read("observer_reset.err"),
         f"observer reset refused with PERMISSION_DENIED: {read('observer_reset.err').strip()}")
 check(rc("trainee_join") == 0 and "dds_partition=hapsim_s_t1" in read("trainee_join.out"),
@@ -75,7 +79,9 @@ check(m is not None and abs(float(m.group(1)) - 6.790) < 1e-3,
 metrics = read("metrics.txt")
 denied = re.search(r'hapsim_auth_failures_total\{reason="permission_denied"\} (\d+)', metrics)
 unauth = re.search(r'hapsim_auth_failures_total\{reason="unauthenticated"\} (\d+)', metrics)
-check(denied is not None and int(denied.group(1)) >= 2, f"metrics count permission_denied: {denied.group(0) if denied else 'missing'}")
+# Exactly the observer's reset and the trainee's look at t2: the consoles
+# made no call the class refuses.
+check(denied is not None and int(denied.group(1)) == 2, f"metrics count permission_denied: {denied.group(0) if denied else 'missing'} (2 refused on purpose)")
 check(unauth is not None and int(unauth.group(1)) >= 1, f"metrics count unauthenticated: {unauth.group(0) if unauth else 'missing'}")
 # Trials: the CSV the instructor exported after resetting t1.
 import csv

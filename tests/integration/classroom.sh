@@ -41,9 +41,16 @@ if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   "$bin/hapsim-viewer" --headless "${tls[@]}" --token-file class/tokens/observer.token --class acu-101 \
       --session t2 --seconds 4 --size 1280x720 --png console.png >console.out 2>console.err &
   console=$!; pids+=("$console")
+  # Without --session: the console opens the class's first trainee (t1), with no refused call.
+  "$bin/hapsim-viewer" --headless "${tls[@]}" --token-file class/tokens/observer.token --class acu-101 \
+      --seconds 4 --size 640x360 --png console_first.png >console_first.out 2>console_first.err &
+  console_first=$!; pids+=("$console_first")
 fi
 run watch as instructor watch acu-101 --rate-hz 10 --count 60
-if [ -n "$console" ]; then wait "$console" && echo 0 >console.rc || echo $? >console.rc; fi
+if [ -n "$console" ]; then
+  wait "$console" && echo 0 >console.rc || echo $? >console.rc
+  wait "$console_first" && echo 0 >console_first.rc || echo $? >console_first.rc
+fi
 run observer_watch as observer watch acu-101 --count 2
 run observer_reset as observer reset t2
 run trainee_join as trainee1 join t1

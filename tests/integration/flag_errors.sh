@@ -44,7 +44,7 @@ if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   expect 2 "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH" "$bin/hapsim-viewer" --session s --camera 0,0,nan,1,0,0
   expect 2 "--benchmark-seconds must be within \[0, 3600\]" "$bin/hapsim-viewer" --session s --benchmark-seconds 1e9
   expect 2 "--class-rate-hz must be within \[0.1, 50\]" "$bin/hapsim-viewer" --class c --class-rate-hz 0
-  expect 2 "give --session, --class or --replay" "$bin/hapsim-viewer" --session "" --headless --png x.png
+  expect 2 "--class is the window's instructor console" "$bin/hapsim-viewer" --class c --headless
   expect 1 "cannot read /nonexistent.frames" "$bin/hapsim-viewer" --headless --replay /nonexistent.frames --png x.png
   printf 'garbage!' >"${TMPDIR:-/tmp}/hapsim-garbage.frames"
   expect 1 "not a hapsim frame recording" "$bin/hapsim-viewer" --headless --replay "${TMPDIR:-/tmp}/hapsim-garbage.frames" --png x.png
@@ -52,7 +52,7 @@ if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
   recording="$(cd "$(dirname "$0")/.." && pwd)/viewer-gui/data/acupuncture.frames"
   expect 1 "cannot write /nonexistent-dir/x.png" "$bin/hapsim-viewer" --headless --replay "$recording" --png /nonexistent-dir/x.png
   # No display: a clear message, not a crash.
-  expect 1 "without a display use --headless or --png" env -u DISPLAY -u WAYLAND_DISPLAY "$bin/hapsim-viewer" --session s
+  expect 1 "without a display use --headless, or ask for files" env -u DISPLAY -u WAYLAND_DISPLAY "$bin/hapsim-viewer" --session s
 fi
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-bridge" --seconds 1e20
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-load" --seconds 1e20

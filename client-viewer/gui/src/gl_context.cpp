@@ -30,7 +30,9 @@ std::unique_ptr<GlWindow> GlWindow::Open(int width_px, int height_px, const std:
   KeepDriverBuffersOnTheHeap();
   glfwSetErrorCallback(OnGlfwError);
   if (!glfwInit()) {
-    *error = "cannot open a window (" + glfw_error + "); without a display use --headless or --png";
+    *error = "cannot open a window (" + glfw_error +
+             "); without a display use --headless, or ask for files "
+             "(--png, --plot-png, --obj, --export), which are then made off screen";
     return nullptr;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);

@@ -35,6 +35,13 @@ void StreamWorker::Stop() {
   wake_.notify_all();
 }
 
+std::optional<viewer::CompactMesh> StreamWorker::StopAndTakeMesh() {
+  Stop();
+  if (thread_.joinable()) thread_.join();
+  std::lock_guard lock(mutex_);
+  return std::move(last_mesh_);
+}
+
 void StreamWorker::Loop() {
   std::shared_ptr<grpc::Channel> channel;
   try {
@@ -60,6 +67,7 @@ void StreamWorker::Loop() {
     {
       std::lock_guard lock(mutex_);
       client_ = nullptr;
+      if (client.mesh().has_mesh()) last_mesh_ = client.mesh().Compact();
     }
     if (stop_) break;
     const std::string why = client.stats().final_status;

@@ -5,14 +5,15 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <thread>
 
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 #include <spdlog/spdlog.h>
 
 #include "hapsim/gui/class_board.h"
@@ -24,6 +25,7 @@
 #include "hapsim/gui/stream_worker.h"
 #include "hapsim/gui/viewer_panels.h"
 #include "hapsim/viewer/frame_log.h"
+#include "hapsim/viewer/mesh_export.h"
 
 namespace hapsim::gui {
 
@@ -59,6 +61,9 @@ class Replay {
     return next_ < frames_.size();
   }
   void ApplyAll(LiveScene* scene) { Advance(1e300, scene); }
+  std::optional<viewer::CompactMesh> Mesh() const {
+    return cache_.has_mesh() ? std::optional(cache_.Compact()) : std::nullopt;
+  }
 
  private:
   std::vector<hapsim::v1::Frame> frames_;
@@ -81,20 +86,51 @@ void HandleMouse(const ImGuiIO& io, OrbitCamera* camera, ViewState* view, int he
   }
 }
 
+// Writes the final mesh where --obj/--export ask; false (with the message printed) if a file cannot be written.
+bool WriteFinalMesh(const GuiOptions& options, const std::optional<viewer::CompactMesh>& mesh,
+                    const std::string& session) {
+  if (options.obj_path.empty() && options.export_path.empty()) return true;
+  if (!mesh) {
+    std::fprintf(stderr, "hapsim-viewer: no mesh arrived: nothing written to %s\n",
+                 (options.obj_path.empty() ? options.export_path : options.obj_path).c_str());
+    return true;  // as the headless viewer: nothing to write is not a failure of the run
+  }
+  const std::string comment = "hapsim session " + session;
+  std::string error;
+  bool ok = true;
+  if (!options.obj_path.empty() && !viewer::WriteObj(options.obj_path, *mesh, comment)) {
+    std::fprintf(stderr, "hapsim-viewer: cannot write %s\n", options.obj_path.c_str());
+    ok = false;
+  }
+  if (!options.export_path.empty() && !viewer::WriteMeshFile(options.export_path, *mesh, comment, &error)) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str());
+    ok = false;
+  }
+  return ok;
+}
+
 }  // namespace
 
 int RunViewerGui(const GuiOptions& options) {
   std::string error;
   std::unique_ptr<GlWindow> window;
   std::unique_ptr<HeadlessGl> headless;
-  if (options.headless) {
-    headless = HeadlessGl::Open(options.width_px, options.height_px, &error);
-  } else {
+  // A run that writes files (pictures, a mesh) needs no window.
+  const bool writes_files = !options.png_path.empty() || !options.plot_png_path.empty() ||
+                            options.benchmark_seconds > 0.0 || !options.obj_path.empty() ||
+                            !options.export_path.empty();
+  bool off_screen = options.headless;
+  if (!off_screen) {
     window = GlWindow::Open(options.width_px, options.height_px,
                             "hapsim-viewer — " + (options.class_name.empty() ? options.viewer.session
                                                                              : "class " + options.class_name),
                             options.vsync && options.benchmark_seconds == 0.0, &error);
+    if (!window && writes_files) {  // no display: what was asked for is drawn off screen
+      spdlog::info("no window could be opened (no display?): drawing off screen");
+      off_screen = true;
+    }
   }
+  if (off_screen) headless = HeadlessGl::Open(options.width_px, options.height_px, &error);
   if (!window && !headless) {
     std::fprintf(stderr, "hapsim-viewer: %s\n", error.c_str());
     return 1;
@@ -132,6 +168,7 @@ int RunViewerGui(const GuiOptions& options) {
     return 1;
   }
   std::string watched = options.viewer.session;
+  bool picked_first = false;
   std::unique_ptr<StreamWorker> stream;
   auto watch = [&](const std::string& session) {
     stream.reset();
@@ -162,7 +199,7 @@ int RunViewerGui(const GuiOptions& options) {
   const auto start = Clock::now();
   auto last = start;
   std::uint64_t drawn = 0, drawn_with_mesh = 0;
-  const bool still = options.headless && options.benchmark_seconds == 0.0;  // one picture at the end
+  const bool still = off_screen && options.benchmark_seconds == 0.0;  // one picture at the end
   if (!options.replay_path.empty() && (still || options.benchmark_seconds > 0.0)) replay.ApplyAll(&live);
   double render_s = 0.0;
   Clock::time_point first_drawn;  // the benchmark counts from the first frame drawn
@@ -238,6 +275,15 @@ int RunViewerGui(const GuiOptions& options) {
   int width = options.width_px, height = options.height_px;
   bool ok = true;
   while (true) {
+    // No --session: the class's first session, once the class lists one
+    // (never a session outside the class, which would be refused).
+    if (console && watched.empty() && !picked_first) {
+      const ClassView class_view = board->View();
+      if (!class_view.sessions.empty()) {
+        watch(class_view.sessions.front().status.session_id());
+        picked_first = true;
+      }
+    }
     if (window) {
       glfwPollEvents();
       if (window->ShouldClose()) break;
@@ -303,6 +349,7 @@ int RunViewerGui(const GuiOptions& options) {
                 class_view.missing.size(), class_view.connection.c_str());
   }
   std::fflush(stdout);
+  if (!WriteFinalMesh(options, stream ? stream->StopAndTakeMesh() : replay.Mesh(), watched)) ok = false;
   stream.reset();
   board.reset();
   renderer.reset();

@@ -164,14 +164,23 @@ void DrawEventList(const SceneView& scene) {
   if (shown == 0) ImGui::TextDisabled("no events yet");
 }
 
+TileGrid ClassTileGrid(float avail_px, float spacing_px) {
+  TileGrid grid;
+  grid.columns = std::max(1, static_cast<int>((avail_px + spacing_px) / (TileGrid::kMinTileWidth_px + spacing_px)));
+  grid.tile_width_px = std::max(TileGrid::kMinTileWidth_px,
+                                (avail_px - static_cast<float>(grid.columns - 1) * spacing_px) / grid.columns);
+  return grid;
+}
+
 std::string DrawClassConsole(const ClassView& view, const std::string& watched, SessionControls* controls) {
   std::string clicked;
   ImGui::Text("class %s  update %llu", view.class_name.empty() ? "(all sessions)" : view.class_name.c_str(),
               static_cast<unsigned long long>(view.updates));
   const bool live = view.connection == "live";
   ImGui::TextColored(live ? ImVec4(0.5f, 0.9f, 0.5f, 1) : ImVec4(1.0f, 0.6f, 0.3f, 1), "%s", view.connection.c_str());
-  const float tile_w = 250.0f, tile_h = 150.0f;
-  const int columns = std::max(1, static_cast<int>(ImGui::GetContentRegionAvail().x / (tile_w + 8.0f)));
+  const TileGrid grid = ClassTileGrid(ImGui::GetContentRegionAvail().x, ImGui::GetStyle().ItemSpacing.x);
+  const float tile_w = grid.tile_width_px, tile_h = 150.0f;
+  const int columns = grid.columns;
   int i = 0;
   for (const auto& tile : view.sessions) {
     const auto& s = tile.status;

@@ -8,6 +8,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -25,6 +26,9 @@ class StreamWorker {
   ~StreamWorker();  // stops and joins
   void Stop();
   std::uint64_t reconnects() const { return reconnects_; }
+  // Stops, joins and returns the mesh as the last stream left it (full
+  // precision, for --obj/--export), or nothing if no keyframe ever came.
+  std::optional<viewer::CompactMesh> StopAndTakeMesh();
 
  private:
   void Loop();
@@ -38,6 +42,7 @@ class StreamWorker {
   std::mutex mutex_;
   std::condition_variable wake_;
   viewer::ViewerClient* client_ = nullptr;  // the running one, guarded by mutex_
+  std::optional<viewer::CompactMesh> last_mesh_;  // of the last stream that ended, guarded by mutex_
   std::thread thread_;
 };
 

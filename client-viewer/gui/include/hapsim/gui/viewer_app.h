@@ -16,14 +16,17 @@ namespace hapsim::gui {
 
 struct GuiOptions {
   viewer::Connection connection;
-  viewer::ViewerOptions viewer;     // session (may be empty with a class), name, rate, ack window
+  viewer::ViewerOptions viewer;  // session (empty with a class: its first session once listed), name, rate, ack window
   std::string class_name;           // the instructor's class console ("" none)
   double class_rate_hz = 10.0;
   std::string replay_path;          // play a recording instead of a server stream
   std::string record_path;          // record the stream here
   std::string png_path;             // the last frame as a picture
   std::string plot_png_path;        // the force-depth and force-time plots as a picture
-  bool headless = false;            // off-screen (EGL): no display needed
+  std::string obj_path;             // the final mesh as OBJ (as the headless viewer writes it)
+  std::string export_path;          // the final mesh by extension: .obj .gltf .glb .vtk
+  bool headless = false;            // off-screen (EGL): no display needed. Pictures asked for without a
+                                    // display are drawn off screen too.
   bool panels = true;
   bool vsync = true;
   int width_px = 1280, height_px = 720;

@@ -49,6 +49,16 @@ void DrawSessionPanel(const SceneView& scene, const std::string& session_id, con
                       const StreamRate& rate, ViewState* view, SessionControls* controls);
 void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px);
 void DrawEventList(const SceneView& scene);
+// How the class console lays its tiles out in avail_px of width with
+// spacing_px between tiles: as many columns as fit tiles of at least
+// kMinTileWidth_px, the tiles widened to fill the row.
+struct TileGrid {
+  static constexpr float kMinTileWidth_px = 240.0f;
+  int columns = 1;
+  float tile_width_px = kMinTileWidth_px;
+};
+TileGrid ClassTileGrid(float avail_px, float spacing_px);
+
 // Tiles of every session of the class; returns the id the instructor
 // clicked to watch ("" when none was clicked).
 std::string DrawClassConsole(const ClassView& view, const std::string& watched, SessionControls* controls);

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Every output flag of hapsim-viewer works with every other, and pictures
+# asked for without a display are drawn off screen:
+#  1. no display, a recording: --png, --plot-png, --obj and --export at once;
+#  2. no display, a live session, no --headless: --png and --obj;
+#  3. --headless, a live session: --record, --png and --export, and the
+#     recording replays into the same mesh.
+# check_viewer_outputs.py reads the files.
+set -euo pipefail
+source "$(dirname "$0")/lib.sh" "$@"
+recording="$here/../viewer-gui/data/acupuncture.frames"
+nodisplay=(env -u DISPLAY -u WAYLAND_DISPLAY)
+"${nodisplay[@]}" "$bin/hapsim-viewer" --replay "$recording" --size 320x240 --png replay.png \
+    --plot-png replay_plot.png --obj replay.obj --export replay.glb >replay.out 2>replay.log
+
+start_server "out:tissue_block"
+"$bin/hapsim-bridge" --session out --dds-domain "$domain" --script insertion --depth-mm 3 --seconds 4 \
+    >bridge.out 2>bridge.log &
+pids+=("$!")
+sleep 0.5
+"${nodisplay[@]}" "$bin/hapsim-viewer" --server "$addr" --session out --seconds 1.5 --size 320x240 \
+    --png live.png --obj live.obj >live.out 2>live.log
+"$bin/hapsim-viewer" --headless --server "$addr" --session out --seconds 1.5 --size 320x240 --record live.frames \
+    --png recorded.png --export recorded.vtk >recorded.out 2>recorded.log
+"${nodisplay[@]}" "$bin/hapsim-viewer" --replay live.frames --size 320x240 --obj replayed.obj \
+    >replayed.out 2>replayed.log
+stop_process server_rc "$server"
+pids=()
+/usr/bin/python3 "$here/check_viewer_outputs.py" "$work"
