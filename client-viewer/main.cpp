@@ -64,7 +64,7 @@ bool ParseCamera(const std::string& text, double out[7]) {
 int main(int argc, char** argv) {
   std::string obj_path, export_path, log_level = "info";
   std::string png_path, plot_png_path, size_text = "1280x720", class_name, replay_path, record_path, camera_text;
-  double benchmark_seconds = 0.0, class_rate_hz = 10.0;
+  double benchmark_seconds = 0.0, class_rate_hz = 10.0, max_fps = 60.0;
   bool panels = true, follow_tool = false, vsync = true;
   bool show_tool = true, show_force = true, show_events = true, see_through = true;
   hapsim::viewer::Connection connection;
@@ -104,7 +104,9 @@ int main(int argc, char** argv) {
   flags.Add("see-through", &see_through, "draw the skin and fat layers translucent");
   flags.Add("max-triangles", &max_triangles,
             "draw a mesh of more triangles simplified to this many (software rendering pays per triangle; 0: all)");
-  flags.Add("vsync", &vsync, "sync the window to the display (--vsync=false: draw as fast as possible)");
+  flags.Add("vsync", &vsync, "sync the window to the display");
+  flags.Add("max-fps", &max_fps,
+            "the window draws only when something changed, at most this often [Hz] (not --benchmark-seconds)");
   flags.Add("replay", &replay_path, "draw a recording (--record) instead of a server's stream");
   flags.Add("record", &record_path, "record the frame stream here (replay with --replay)");
   flags.Add("benchmark-seconds", &benchmark_seconds,
@@ -177,6 +179,7 @@ int main(int argc, char** argv) {
       {ack_window >= 0 && ack_window <= 64, "--ack-window", "[0, 64]"},
       {benchmark_seconds >= 0.0 && benchmark_seconds <= 3600.0, "--benchmark-seconds", "[0, 3600]"},
       {class_rate_hz >= 0.1 && class_rate_hz <= 50.0, "--class-rate-hz", "[0.1, 50]"},
+      {max_fps >= 1.0 && max_fps <= 1000.0, "--max-fps", "[1, 1000]"},
       {options.connect_timeout_s > 0.0 && options.connect_timeout_s <= 3600.0, "--connect-timeout-s", "(0, 3600]"},
   });
   if (!out_of_range.empty()) {
@@ -211,6 +214,7 @@ int main(int argc, char** argv) {
     gui_options.headless = headless;
     gui_options.panels = panels;
     gui_options.vsync = vsync;
+    gui_options.max_fps = max_fps;
     gui_options.width_px = width;
     gui_options.height_px = height;
     gui_options.seconds = options.max_seconds;

@@ -63,6 +63,16 @@ check(d_near > 2.0, f"the dimple region changed: mean |diff| {d_near:.1f} levels
 check(d_far < 0.5, f"12 mm away nothing changed: mean |diff| {d_far:.2f} levels (< 0.5)")
 
 # The window lived through a lost frame, a server restart and a closed session.
+# Pacing without vsync: one draw per new frame at most, never above 60/s;
+# a paused session draws at the 4 Hz idle rate (+ the first frames).
+for name, most in (("paced_live", 3 * 60 + 3), ("paced_paused", 3 * 4 + 6)):
+    m = re.search(r"frames (\d+), drawn (\d+)", open(f"{name}.out").read())
+    frames, drawn = (int(m.group(1)), int(m.group(2))) if m else (-1, -1)
+    print(f"{name}: {frames} frames received, {drawn} drawn in 3 s without vsync")
+    check(m is not None and 0 < drawn <= most, f"{name}: drawn {drawn} <= {most}")
+    if name == "paced_live":
+        check(drawn <= frames + 13, f"{name}: drawn {drawn} <= frames {frames} + the idle refreshes (12) + 1")
+
 out = open("survive.out").read()
 log = open("survive.log").read()
 m = re.search(r"reconnects (\d+)", out)

@@ -48,6 +48,16 @@ sleep 2
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --size 1280x720 --camera "$camera" --seconds 3 \
     --png panels.png >panels.out 2>panels.log
 
+# Pacing: without vsync the window draws each new frame once, at most
+# --max-fps (60), not flat out; a paused session (no new frames) is redrawn
+# only at the idle rate (4 Hz).
+"$bin/hapsim-viewer" --server "$addr" --session "$session" --size 640x480 --vsync=false --seconds 3 \
+    >paced_live.out 2>paced_live.log
+"$bin/hapsim-ctl" --server "$addr" pause "$session" >/dev/null
+"$bin/hapsim-viewer" --server "$addr" --session "$session" --size 640x480 --vsync=false --seconds 3 \
+    >paced_paused.out 2>paced_paused.log
+"$bin/hapsim-ctl" --server "$addr" resume "$session" >/dev/null
+
 # 3. Resilience: one window for ~16 s while the world misbehaves around it.
 "$bin/hapsim-viewer" --server "$addr" --session "$session" --size 800x600 --seconds 16 --debug-drop-seq 20 \
     --png survived.png >survive.out 2>survive.log &

@@ -46,6 +46,43 @@ TEST(LiveScene, ADeltaMovesVerticesAndKeepsTheSameTriangleList) {
   EXPECT_NEAR(view.lo_m.z(), -1.5e-3, 1e-9);
 }
 
+// A paused session keeps streaming frames that change nothing: they are
+// counted, but give the window nothing new to draw; the first frame that
+// moves the tool does.
+TEST(LiveScene, AFrameThatChangesNothingIsCountedButNotNew) {
+  viewer::MeshCache cache;
+  LiveScene live;
+  auto key = GridKeyframe(3, 0.01, "skin");
+  key.set_sim_time_s(2.0);
+  key.set_paused(true);
+  for (const double v : {0.001, 0.0, 0.003}) key.mutable_tool()->add_tip_m(v);
+  ASSERT_EQ(cache.Apply(key), viewer::ApplyResult::kApplied);
+  live.OnFrame(key, cache);
+  SceneView view;
+  ASSERT_TRUE(live.CopyIfNewer(&view));
+  hapsim::v1::Frame same;
+  same.set_seq(1);
+  same.set_sim_time_s(2.0);
+  same.set_paused(true);
+  same.mutable_delta();
+  *same.mutable_tool() = key.tool();
+  for (std::uint64_t seq = 1; seq <= 5; ++seq) {
+    same.set_seq(seq);
+    ASSERT_EQ(cache.Apply(same), viewer::ApplyResult::kApplied);
+    live.OnFrame(same, cache);
+    EXPECT_FALSE(live.CopyIfNewer(&view)) << "frame " << seq << " changes nothing drawn";
+  }
+  EXPECT_EQ(live.FramesReceived(), 6u);
+  EXPECT_EQ(live.LastSeq(), 5u);
+  auto moved = same;
+  moved.set_seq(6);
+  moved.mutable_tool()->set_tip_m(2, 0.002);  // the stylus moves while the session is paused
+  ASSERT_EQ(cache.Apply(moved), viewer::ApplyResult::kApplied);
+  live.OnFrame(moved, cache);
+  ASSERT_TRUE(live.CopyIfNewer(&view));
+  EXPECT_NEAR(view.tool.tip_m.z(), 0.002, 1e-12);
+}
+
 TEST(LiveScene, ToolEventsAndHistoryFollowTheFrames) {
   viewer::MeshCache cache;
   LiveScene live;

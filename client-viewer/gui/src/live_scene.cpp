@@ -45,11 +45,47 @@ void CopyPositions(const viewer::MeshCache& cache, SceneView* s) {
   }
 }
 
+template <class Repeated>
+bool SameValues(const Repeated& a, const Repeated& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
+}
+
+bool SameTool(const hapsim::v1::ToolState& a, const hapsim::v1::ToolState& b) {
+  return SameValues(a.tip_m(), b.tip_m()) && SameValues(a.orientation_wxyz(), b.orientation_wxyz()) &&
+         SameValues(a.force_n(), b.force_n()) && a.contact_state() == b.contact_state();
+}
+
 }  // namespace
+
+bool LiveScene::ChangesNothing(const hapsim::v1::Frame& frame) const {
+  const SceneView& s = state_;
+  return s.triangles && !frame.has_keyframe() && !frame.has_topology() && frame.events_size() == 0 &&
+         frame.delta().index_gaps_size() == 0 && frame.sim_time_s() == s.sim_time_s && frame.paused() == s.paused &&
+         frame.current_layer() == s.current_layer && frame.tip_depth_m() == s.tip_depth_m &&
+         SameTool(frame.tool(), last_tool_);
+}
+
+std::uint64_t LiveScene::FramesReceived() const {
+  std::lock_guard lock(mutex_);
+  return state_.frames;
+}
+
+std::uint64_t LiveScene::LastSeq() const {
+  std::lock_guard lock(mutex_);
+  return state_.seq;
+}
 
 void LiveScene::OnFrame(const hapsim::v1::Frame& frame, const viewer::MeshCache& cache) {
   std::lock_guard lock(mutex_);
   SceneView& s = state_;
+  // A paused session keeps streaming frames that change nothing drawn:
+  // counted, but the version stays, so the window does not redraw for them.
+  if (ChangesNothing(frame)) {
+    s.seq = frame.seq();
+    ++s.frames;
+    return;
+  }
+  last_tool_ = frame.tool();
   if (frame.has_keyframe() || frame.has_topology() || !s.triangles) CopyTriangles(cache, &s);
   CopyPositions(cache, &s);
   s.seq = frame.seq();

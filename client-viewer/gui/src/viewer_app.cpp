@@ -7,7 +7,7 @@
 #include <memory>
 #include <optional>
 #include <thread>
-
+#include <utility>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -21,6 +21,7 @@
 #include "hapsim/gui/gl_context.h"
 #include "hapsim/gui/image.h"
 #include "hapsim/gui/live_scene.h"
+#include "hapsim/gui/redraw_policy.h"
 #include "hapsim/gui/scene_renderer.h"
 #include "hapsim/gui/stream_worker.h"
 #include "hapsim/gui/viewer_panels.h"
@@ -37,6 +38,23 @@ using Clock = std::chrono::steady_clock;
 std::atomic<bool> interrupted{false};
 void OnSignal(int) { interrupted = true; }
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// Set by the window's input callbacks (GLFW calls them on the render thread,
+// inside glfwPollEvents/glfwWaitEventsTimeout): a redraw is due.
+bool input_seen = false;
+
+// Installed before ImGui's GLFW backend, which chains to them.
+void WatchInput(GLFWwindow* window) {
+  glfwSetCursorPosCallback(window, [](GLFWwindow*, double, double) { input_seen = true; });
+  glfwSetMouseButtonCallback(window, [](GLFWwindow*, int, int, int) { input_seen = true; });
+  glfwSetScrollCallback(window, [](GLFWwindow*, double, double) { input_seen = true; });
+  glfwSetKeyCallback(window, [](GLFWwindow*, int, int, int, int) { input_seen = true; });
+  glfwSetCharCallback(window, [](GLFWwindow*, unsigned int) { input_seen = true; });
+  glfwSetWindowFocusCallback(window, [](GLFWwindow*, int) { input_seen = true; });
+  glfwSetCursorEnterCallback(window, [](GLFWwindow*, int) { input_seen = true; });
+  glfwSetFramebufferSizeCallback(window, [](GLFWwindow*, int, int) { input_seen = true; });
+  glfwSetWindowRefreshCallback(window, [](GLFWwindow*) { input_seen = true; });
+}
 
 // Plays a recording into the scene at the pace of its sim time (all at once
 // for a still picture), through a MeshCache like a live stream.
@@ -156,7 +174,10 @@ int RunViewerGui(const GuiOptions& options) {
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // no imgui.ini dropped in the working directory
   ImGui::StyleColorsDark();
-  if (window) ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
+  if (window) {
+    WatchInput(window->handle());
+    ImGui_ImplGlfw_InitForOpenGL(window->handle(), true);
+  }
   ImGui_ImplOpenGL3_Init("#version 330 core");
 
   LiveScene live;
@@ -274,6 +295,10 @@ int RunViewerGui(const GuiOptions& options) {
 
   int width = options.width_px, height = options.height_px;
   bool ok = true;
+  // A window draws on change at most max_fps (a benchmark draws flat out).
+  const bool paced = window && options.benchmark_seconds == 0.0;
+  RedrawPolicy redraw(options.max_fps);
+  std::uint64_t board_updates = 0;
   while (true) {
     // No --session: the class's first session, once the class lists one
     // (never a session outside the class, which would be refused).
@@ -285,17 +310,38 @@ int RunViewerGui(const GuiOptions& options) {
       }
     }
     if (window) {
-      glfwPollEvents();
+      if (paced) {  // sleep until the next draw may happen, or input comes
+        const double wait = redraw.WaitBefore(Seconds(Clock::now() - start));
+        if (wait > 0.0)
+          glfwWaitEventsTimeout(wait);
+        else
+          glfwPollEvents();
+      } else {
+        glfwPollEvents();
+      }
       if (window->ShouldClose()) break;
       window->FramebufferSize(&width, &height);
     }
     if (!options.replay_path.empty() && !still && options.benchmark_seconds == 0.0)
       replay.Advance(Seconds(Clock::now() - start), &live);
     const double elapsed = Seconds(Clock::now() - start);
+    bool changed = live.CopyIfNewer(&scene);
     const bool time_up = (options.seconds > 0.0 && elapsed >= options.seconds) ||
                          (options.benchmark_seconds > 0.0 && elapsed >= options.benchmark_seconds) ||
-                         (options.frames > 0 && scene.frames >= options.frames) ||
+                         (options.frames > 0 && live.FramesReceived() >= options.frames) ||
                          (still && !options.replay_path.empty()) || interrupted;
+    if (paced && !time_up) {
+      if (redraw.WaitBefore(elapsed) > 0.0) continue;  // woken early by input: drawn when due
+      if (board) {
+        const std::uint64_t updates = board->View().updates;
+        changed |= updates != board_updates;
+        board_updates = updates;
+      }
+      if (!redraw.ShouldDraw(elapsed, changed, std::exchange(input_seen, false))) {
+        glfwWaitEventsTimeout(redraw.period_s());  // nothing new: look again a frame later, or at input
+        continue;
+      }
+    }
     if (headless && still && !time_up) {  // nothing to show until the end: just wait for frames
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
       live.CopyIfNewer(&scene);
@@ -305,6 +351,7 @@ int RunViewerGui(const GuiOptions& options) {
       continue;
     }
     draw_frame(width, height, false);
+    redraw.Drawn(elapsed);
     if (time_up) {
       glFinish();
       if (!options.png_path.empty()) {
@@ -338,9 +385,9 @@ int RunViewerGui(const GuiOptions& options) {
                 reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
   }
   std::printf("viewer: session %s, frames %llu, drawn %llu (with a mesh %llu), last seq %llu, sim time %.3f s, %s\n",
-              watched.c_str(), static_cast<unsigned long long>(scene.frames), static_cast<unsigned long long>(drawn),
-              static_cast<unsigned long long>(drawn_with_mesh), static_cast<unsigned long long>(scene.seq),
-              scene.sim_time_s, scene.connection.c_str());
+              watched.c_str(), static_cast<unsigned long long>(live.FramesReceived()),
+              static_cast<unsigned long long>(drawn), static_cast<unsigned long long>(drawn_with_mesh),
+              static_cast<unsigned long long>(live.LastSeq()), scene.sim_time_s, scene.connection.c_str());
   if (stream) std::printf("viewer: reconnects %llu\n", static_cast<unsigned long long>(stream->reconnects()));
   if (board) {
     const ClassView class_view = board->View();

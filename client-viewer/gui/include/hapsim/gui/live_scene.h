@@ -48,7 +48,7 @@ struct TriangleList {
 };
 
 struct SceneView {
-  std::uint64_t version = 0;         // bumps with every frame
+  std::uint64_t version = 0;         // bumps with every frame that changes what is drawn
   std::uint64_t topology_stamp = 0;  // bumps when the triangle list changes
   std::uint64_t seq = 0;
   std::vector<float> positions_m;               // 3 per vertex slot
@@ -79,10 +79,17 @@ class LiveScene {
   bool CopyIfNewer(SceneView* out) const;
   // Forgets the mesh (a new session is watched).
   void Clear();
+  // Frames received, including those that changed nothing drawn (which
+  // do not bump the version a copy sees).
+  std::uint64_t FramesReceived() const;
+  std::uint64_t LastSeq() const;  // of the last frame received
 
  private:
+  bool ChangesNothing(const hapsim::v1::Frame& frame) const;  // mutex_ held
+
   mutable std::mutex mutex_;
   SceneView state_;
+  hapsim::v1::ToolState last_tool_;  // of the last frame that changed something
   std::uint64_t connection_stamp_ = 0;
   mutable std::uint64_t copied_connection_stamp_ = 0;
 };

@@ -29,6 +29,7 @@ struct GuiOptions {
                                     // display are drawn off screen too.
   bool panels = true;
   bool vsync = true;
+  double max_fps = 60.0;  // a window draws on change, at most this often
   int width_px = 1280, height_px = 720;
   double seconds = 0.0;             // stop after this long (0: until closed)
   std::uint64_t frames = 0;         // stop after this many frames drawn with a mesh (0: no limit)
