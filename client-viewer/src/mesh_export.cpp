@@ -61,6 +61,10 @@ void Append(std::vector<unsigned char>* bytes, const T& value) {
 
 }  // namespace
 
+bool IsToolPart(const std::string& part_name) {
+  return part_name == "needle" || part_name == "blade" || part_name == "probe";
+}
+
 std::array<float, 3> PartColour(const std::string& name) {
   static const std::map<std::string, std::array<float, 3>> kColours = {
       {"skin", {0.91f, 0.72f, 0.62f}},   {"fat", {0.98f, 0.88f, 0.52f}},    {"muscle", {0.72f, 0.22f, 0.22f}},

@@ -89,12 +89,7 @@ bool ViewerClient::Run() {
         }
       }
       stats_.last_sim_time_s = frame.sim_time_s();
-      if (frame.tool().force_n_size() == 3) {
-        const double f = std::sqrt(frame.tool().force_n(0) * frame.tool().force_n(0) +
-                                   frame.tool().force_n(1) * frame.tool().force_n(1) +
-                                   frame.tool().force_n(2) * frame.tool().force_n(2));
-        stats_.peak_tool_force_N = std::max(stats_.peak_tool_force_N, f);
-      }
+      stats_.peak_tool_force_N = std::max(stats_.peak_tool_force_N, frame.peak_force_n());
       stats_.last_contact_state = frame.tool().contact_state();
 
       const bool injected_loss = first_stream && options_.debug_drop_seq >= 0 &&

@@ -41,7 +41,7 @@ class Event:
 class ToolState:
     """The tool as the frame's tick saw it."""
 
-    tip_m: np.ndarray             # (3,) tip position [m]
+    tip_m: np.ndarray             # (3,) tip position [m]; (0,) while no device streams
     orientation_wxyz: np.ndarray  # (4,) unit quaternion
     force_n: np.ndarray           # (3,) force of the tissue on the tool [N]
     contact_state: str            # free | contact | punctured | cutting
@@ -70,6 +70,7 @@ class Frame:
     tip_depth_m: float          # tool tip below the surface (0 outside) [m]
     events: List[Event]         # since the previous frame of this stream
     paused: bool
+    peak_force_n: float = 0.0   # peak |force on the tool| over the 1 kHz ticks since the previous frame [N]
 
     @property
     def vertex_count(self) -> int:
@@ -95,6 +96,7 @@ def _to_frame(message: "viewer_pb2.Frame", cache: MeshCache) -> Frame:
         tip_depth_m=message.tip_depth_m,
         events=[Event.from_proto(e) for e in message.events],
         paused=message.paused,
+        peak_force_n=message.peak_force_n,
     )
 
 

@@ -55,4 +55,11 @@ if nonempty("recorded.vtk") and nonempty("replayed.obj"):
     check(len(a) == len(b) and worst < 1e-8,
           f"replaying the recording gives the exported mesh: {len(b)}/{len(a)} vertices, worst {worst:.1e} m")
 check("off screen" in open(f"{work}/live.log").read(), "without a display the viewer said it draws off screen")
+# The peak force: the counting viewer's, from its frames, against the server's own.
+import re  # noqa: E402
+viewer_peak = float(re.search(r"peak tool force ([\d.]+) N", open(f"{work}/counting.out").read()).group(1))
+server_peak = float(re.search(r"peak_tool_force_n=([\d.]+)", open(f"{work}/info.txt").read()).group(1))
+check(server_peak > 0.5, f"the needle punctured the skin (server peak {server_peak:.4f} N)")
+check(abs(viewer_peak - server_peak) <= 0.0006,
+      f"the frames carry the 1 kHz peak: viewer {viewer_peak:.3f} N, server {server_peak:.4f} N")
 finish()

@@ -122,7 +122,8 @@ void LiveScene::OnFrame(const hapsim::v1::Frame& frame, const viewer::MeshCache&
   // A keyframe after a reset or re-subscription may go back in time.
   if (!s.history.empty() && frame.sim_time_s() < s.history.back().t_s) s.history.clear();
   if (s.history.size() >= kMaxHistory) s.history.erase(s.history.begin(), s.history.begin() + kMaxHistory / 4);
-  s.history.push_back({frame.sim_time_s(), s.tool.force_N.norm(), frame.tip_depth_m()});
+  // The 1 kHz peak since the previous frame, not the force at the frame's tick alone.
+  s.history.push_back({frame.sim_time_s(), std::max(frame.peak_force_n(), s.tool.force_N.norm()), frame.tip_depth_m()});
   ++s.frames;
   ++s.version;
 }

@@ -316,6 +316,7 @@ void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int 
     glBindVertexArray(mesh_vao_);
     for (const auto& range : ranges_) {
       const std::string& name = range.part < names.size() ? names[range.part] : "";
+      if (!scene.tool.valid && viewer::IsToolPart(name)) continue;  // parked: no device streams
       // Only over other layers (acupuncture's skin over fat over muscle): a
       // single skin (the cutting patch) stays opaque.
       const bool translucent = options.see_through_layers && layered && IsTranslucentLayer(name);

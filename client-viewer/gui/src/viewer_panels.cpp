@@ -125,11 +125,13 @@ void DrawSessionPanel(const SceneView& scene, const std::string& session_id, con
   }
 }
 
+double ForceAxisTop_N(double peak_N) { return 1.1 * std::max(peak_N, kMinForceAxis_N); }
+
 void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px) {
   constexpr double kWindow_s = 10.0;
   std::vector<double> t, f, depth_mm, f_depth;
   const double t_end = scene.history.empty() ? 0.0 : scene.history.back().t_s;
-  double f_max = 0.5, d_max = 2.0;
+  double f_max = 0.0, d_max = 2.0;
   for (const auto& s : scene.history) {
     d_max = std::max(d_max, 1e3 * s.depth_m);
     f_max = std::max(f_max, s.force_N);
@@ -140,11 +142,12 @@ void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px
       f.push_back(s.force_N);
     }
   }
+  const double f_top = ForceAxisTop_N(f_max);
   PlotAxes time_axes{"force on the tool vs time", "t [s]", "|F| [N]", std::max(0.0, t_end - kWindow_s),
-                     std::max(kWindow_s, t_end), 0.0, 1.1 * f_max};
+                     std::max(kWindow_s, t_end),  0.0,     f_top};
   PlotLine("force_time", time_axes, t, f, width_px, plot_height_px, IM_COL32(255, 190, 50, 255));
-  PlotAxes depth_axes{"force vs tip depth (since reset)", "depth below the surface [mm]", "|F| [N]", 0.0,
-                      1.05 * d_max, 0.0, 1.1 * f_max};
+  PlotAxes depth_axes{
+      "force vs tip depth (since reset)", "depth below the surface [mm]", "|F| [N]", 0.0, 1.05 * d_max, 0.0, f_top};
   PlotLine("force_depth", depth_axes, depth_mm, f_depth, width_px, plot_height_px, IM_COL32(90, 200, 255, 255));
 }
 

@@ -14,11 +14,13 @@ void FillCommon(const SceneSnapshot& s, hapsim::v1::Frame* frame) {
   frame->set_tip_depth_m(s.tip_depth_m);
   frame->set_paused(s.paused);
   auto* tool = frame->mutable_tool();
-  for (int i = 0; i < 3; ++i) tool->add_tip_m(s.tool.tip_W_m[i]);
-  tool->add_orientation_wxyz(s.tool.orientation_W.w());
-  tool->add_orientation_wxyz(s.tool.orientation_W.x());
-  tool->add_orientation_wxyz(s.tool.orientation_W.y());
-  tool->add_orientation_wxyz(s.tool.orientation_W.z());
+  if (s.tool.valid) {  // a device streams: where its tool is (else no pose: nothing to draw)
+    for (int i = 0; i < 3; ++i) tool->add_tip_m(s.tool.tip_W_m[i]);
+    tool->add_orientation_wxyz(s.tool.orientation_W.w());
+    tool->add_orientation_wxyz(s.tool.orientation_W.x());
+    tool->add_orientation_wxyz(s.tool.orientation_W.y());
+    tool->add_orientation_wxyz(s.tool.orientation_W.z());
+  }
   for (int i = 0; i < 3; ++i) tool->add_force_n(s.tool_force_W_N[i]);
   tool->set_contact_state(core::ToString(s.contact));
 }
@@ -145,6 +147,8 @@ void EncodeFrame(const SceneSnapshot& s, const TopologyHistory& history, StreamE
   }
   frame->set_seq(state->next_seq++);
   FillCommon(s, frame);
+  frame->set_peak_force_n(std::max(PeakForceSince(s, state->snapshot_id), s.tool_force_W_N.norm()));
+  state->snapshot_id = s.id;
   state->events_sent = AppendEventsSince(s, state->events_sent, frame->mutable_events());
   if (state->need_keyframe) {
     state->need_keyframe = false;

@@ -13,21 +13,19 @@ namespace hapsim::service {
 // machine (at nice 19, weight 15, it starved for tens of seconds).
 constexpr int kBuildNice = 10;
 
-std::unique_ptr<core::Scene> BuildSceneAtLowPriority(const core::SceneSpec& spec) {
-  std::unique_ptr<core::Scene> scene;
+void RunAtLowPriority(const std::function<void()>& work) {
   std::exception_ptr error;
   std::thread builder([&] {
     // Per-thread nice on Linux; failure only costs priority, not correctness.
     (void)setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBuildNice);
     try {
-      scene = core::MakeScene(spec);
+      work();
     } catch (...) {
       error = std::current_exception();
     }
   });
   builder.join();
   if (error) std::rethrow_exception(error);
-  return scene;
 }
 
 }  // namespace hapsim::service

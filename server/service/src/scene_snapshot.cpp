@@ -25,4 +25,13 @@ void CopyMesh(const Eigen::Matrix3Xd& vertices_m, const core::MeshTopology& topo
   for (std::uint64_t v = s->edits_from_version; v < log.Version(); ++v) s->topology_edits.push_back(log.At(v));
 }
 
+double PeakForceSince(const SceneSnapshot& s, std::uint64_t previous_id) {
+  constexpr std::uint64_t n = SceneSnapshot::kPeakIntervals;
+  std::uint64_t first = previous_id == 0 || previous_id >= s.id ? s.id : previous_id + 1;
+  if (s.id - first >= n) first = s.id - n + 1;
+  double peak = 0.0;
+  for (std::uint64_t k = first; k <= s.id; ++k) peak = std::max(peak, s.interval_peak_N[k % n]);
+  return peak;
+}
+
 }  // namespace hapsim::service

@@ -88,6 +88,7 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns)),
                                    std::memory_order_relaxed);
   RecordTiming(in, due_ns, now_ns, tool_force_N);
+  interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
   if (in.tool.valid) PublishForceModel(in, model);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
   return NextDueNs(in, due_ns, now_ns);
@@ -182,6 +183,9 @@ void Session::PublishSnapshot(const TickInput& in) {
     return;
   }
   s->id = ++snapshot_id_;
+  interval_peaks_N_[s->id % SceneSnapshot::kPeakIntervals] = interval_peak_N_;
+  interval_peak_N_ = 0.0;
+  s->interval_peak_N = interval_peaks_N_;
   s->sim_time_s = scene_->SimTime_s();
   s->paused = in.paused;
   CopyMesh(scene_->Vertices_m(), scene_->Topology(), topology_taken_.load(std::memory_order_acquire), s.get());

@@ -65,9 +65,12 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     config.pose_timeout_s = defaults_.pose_timeout_s;
     config.pose_slack_s = defaults_.pose_slack_s;
     config.targets = targets;
-    auto built = BuildSceneAtLowPriority({config.scene, config.params});
     auto port = transport_->Open(config.id);
-    session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
+    // The scene and the session's first-touched buffers, at low priority.
+    RunAtLowPriority([&] {
+      auto built = core::MakeScene({config.scene, config.params});
+      session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
+    });
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());

@@ -26,5 +26,9 @@ bool WriteVtk(const std::string& path, const CompactMesh& mesh, const std::strin
 // RGB in [0, 1] the viewer draws a part with (skin, fat, muscle, needle,
 // wound, blade, vessel, ...; grey for an unknown name).
 std::array<float, 3> PartColour(const std::string& part_name);
+// A part that is the scene's own copy of the tool (needle, blade, probe):
+// parked away from the tissue while no device streams, so a viewer hides it
+// when the frame carries no tool.
+bool IsToolPart(const std::string& part_name);
 
 }  // namespace hapsim::viewer

@@ -48,6 +48,11 @@ struct StreamRate {  // frames per second of the stream, over ~1 s
 void DrawSessionPanel(const SceneView& scene, const std::string& session_id, const std::string& server,
                       const StreamRate& rate, ViewState* view, SessionControls* controls);
 void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px);
+// The force plots' |F| axis tops 10 % above the peak shown, and at least at
+// 1.1 x kMinForceAxis_N: a vein pressed with 0.05 N fills its plot (a fixed
+// 0.5 N floor drew it as a line along the axis), a free tool's noise does not.
+inline constexpr double kMinForceAxis_N = 0.01;
+double ForceAxisTop_N(double peak_N);
 void DrawEventList(const SceneView& scene);
 // How the class console lays its tiles out in avail_px of width with
 // spacing_px between tiles: as many columns as fit tiles of at least

@@ -25,6 +25,7 @@ struct StreamEncoderState {
   std::uint64_t topology_version = 0;
   std::vector<std::int32_t> sent_q;  // 3 per vertex slot: what the viewer holds
   std::uint64_t events_sent = 0;     // SceneSnapshot::events_total already sent
+  std::uint64_t snapshot_id = 0;     // of the last frame sent (0: none yet)
 };
 
 // Quantise a coordinate [m] to the nearest multiple of quantum_m (saturating;

@@ -50,7 +50,20 @@ struct SceneSnapshot {
   // total, so each stream can send exactly the ones it has not sent yet.
   std::vector<core::SceneEvent> recent_events;
   std::uint64_t events_total = 0;
+
+  // The peak |tool force| of each of the last kPeakIntervals snapshot
+  // intervals (the ticks after the previous snapshot, up to this one's):
+  // interval_peak_N[k % kPeakIntervals] belongs to snapshot id k. A frame
+  // carries the peak over the ticks since its stream's previous frame
+  // (PeakForceSince), so a 60 Hz plot shows the 1 kHz peaks.
+  static constexpr std::uint64_t kPeakIntervals = 64;
+  std::array<double, kPeakIntervals> interval_peak_N{};
 };
+
+// The peak |tool force| over the ticks after snapshot previous_id up to
+// snapshot s (previous_id 0: this interval only; an interval older than
+// the kept ones: all kept, about 1 s at 60 Hz).
+double PeakForceSince(const SceneSnapshot& s, std::uint64_t previous_id);
 
 // Copies a scene's mesh into a snapshot buffer sized for it (SnapshotRing):
 // positions, the slot arrays (only if the buffer holds an older topology

@@ -16,6 +16,7 @@
 // ForceModelMessages through its SessionPort (the DDS adapter packs them),
 // and viewers are the ViewerHub's business.
 #pragma once
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -24,15 +25,15 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/core/scenes/scene.h"
 #include "hapsim/common/latest_value.h"
+#include "hapsim/core/scenes/scene.h"
 #include "hapsim/service/device_ownership.h"
 #include "hapsim/service/scene_snapshot.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/snapshot_ring.h"
 #include "hapsim/service/tick_input.h"
-#include "hapsim/service/trial_tracker.h"
 #include "hapsim/service/tick_pool.h"
+#include "hapsim/service/trial_tracker.h"
 
 namespace hapsim::service {
 
@@ -170,6 +171,10 @@ class Session : public TickTask {
   ForceModelMessage force_message_;
   TrialTracker trial_;
   std::uint64_t events_seen_ = 0;
+  // Peak |tool force| of the ticks since the last published snapshot, and
+  // of the last intervals (SceneSnapshot::interval_peak_N): tick thread only.
+  double interval_peak_N_ = 0.0;
+  std::array<double, SceneSnapshot::kPeakIntervals> interval_peaks_N_{};
   SnapshotRing snapshots_;
   std::shared_ptr<const std::vector<std::string>> part_names_;   // fixed at build
   std::shared_ptr<const std::vector<std::string>> layer_names_;  // fixed at build
