@@ -32,7 +32,7 @@ const std::map<std::string, std::uint64_t> kGoldenHash = {
     {"acupuncture", 16354855512950627205ull},
     {"cutting", 14199298612255148471ull},
     {"tissue_block", 3148907841125443309ull},
-    {"vessel", 6646133050776079375ull},
+    {"vessel", 9737019977653182989ull},
 };
 
 ToolInput Tool(double z_m, double vz_m_per_s) {

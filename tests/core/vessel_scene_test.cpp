@@ -251,6 +251,41 @@ TEST(VesselScene, PressedPastTheFlattenedVeinTheProbeNeverEndsInsideIt) {
   }
 }
 
+// The top of each part of the surface mesh [m].
+std::pair<double, double> WallAndLumenTop_m(const VesselScene& scene) {
+  const MeshTopology& topo = scene.Topology();
+  double top[2] = {-1.0, -1.0};
+  for (std::uint32_t t = 0; t < topo.Triangles().Capacity(); ++t) {
+    if (!topo.Triangles().IsLive(t) || topo.TrianglePart(t) > 1) continue;
+    for (const std::uint32_t v : topo.TriangleVertices(t)) {
+      top[topo.TrianglePart(t)] = std::max(top[topo.TrianglePart(t)], scene.Vertices_m()(2, v));
+    }
+  }
+  return {top[0], top[1]};
+}
+
+// A probe pressing the crest 2 mm that vanishes at once (the device let go
+// or unplugged): the wall snaps back. It used to turn inside out where it
+// was pressed and stay so (St. Venant-Kirchhoff stores no energy in a
+// reflection): the lumen's surface stood 0.05 mm above the wall's, a red
+// blotch on the vein for good. The lumen must stay under the wall, by about
+// the 0.4 mm wall thickness, as at rest.
+TEST(VesselScene, LetGoAtOnceFromAPressTheWallSnapsBackRightSideOut) {
+  VesselScene scene{VesselParams{}};
+  const double x = scene.Geometry().centreline_m(0, scene.Geometry().stations / 2);
+  for (int tick = 0; tick < 1000; ++tick) scene.Step(ToolInput{}, kTick_s);  // settle under the lumen pressure
+  const auto [wall_rest_m, lumen_rest_m] = WallAndLumenTop_m(scene);
+  for (double z = 2e-3; z > -2e-3; z -= 5e-6) scene.Step(TipAt(x, 0.0, z), kTick_s);  // 5 mm/s
+  for (int tick = 0; tick < 500; ++tick) scene.Step(TipAt(x, 0.0, -2e-3), kTick_s);
+  for (int tick = 0; tick < 3000; ++tick) scene.Step(ToolInput{}, kTick_s);
+  const auto [wall_m, lumen_m] = WallAndLumenTop_m(scene);
+  std::printf("at rest: wall top %.3f mm, lumen top %.3f mm; 3 s after letting go: %.3f / %.3f mm\n",
+              1e3 * wall_rest_m, 1e3 * lumen_rest_m, 1e3 * wall_m, 1e3 * lumen_m);
+  EXPECT_LT(lumen_m, wall_m - 0.3e-3) << "the lumen shows through the wall";
+  EXPECT_NEAR(wall_m, wall_rest_m, 0.02e-3) << "the wall is back where it settled";
+  EXPECT_NEAR(lumen_m, lumen_rest_m, 0.02e-3);
+}
+
 TEST(VesselScene, AnUnstableStepIsRefusedNamingTheParameters) {
   try {
     VesselScene scene(ParseVesselParams({{"mass_scale", 1.0}, {"substeps", 1}}));

@@ -14,6 +14,10 @@ MeshlessState MakeMeshlessState(const MeshlessModel& model) {
 
 namespace {
 
+// Where the inversion barrier starts: a node's neighbourhood squeezed to
+// half its rest volume (far past any press the scenes validate).
+constexpr double kInversionBarrierJ = 0.5;
+
 // F_i = sum_j (x_j - x_i) d_ij^T over i's rest neighbourhood.
 inline Eigen::Matrix3d GradientAt(const MeshlessModel& model, const Eigen::Matrix3Xd& x_m, std::int32_t i) {
   Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
@@ -46,7 +50,24 @@ double ComputeMeshlessForces(const MeshlessModel& model, const Eigen::Matrix3Xd&
     const Eigen::Matrix3d S = model.lambda_Pa * E.trace() * Eigen::Matrix3d::Identity() + 2.0 * model.mu_Pa * E;
     const double vi = model.volume_m3[i];
     energy_J += vi * 0.5 * (E.array() * S.array()).sum();
-    const Eigen::Matrix3d vP = vi * (Fi * S);  // dU_i/dF_i
+    Eigen::Matrix3d vP = vi * (Fi * S);  // dU_i/dF_i
+    // St. Venant-Kirchhoff stores no energy in a reflection (F^T F = I at
+    // det F = -1): a wall snapping back from a press can turn inside out and
+    // stay so. Below J = det F = kInversionBarrierJ a volume energy
+    // (K/2)(J - J_b)^2 (K the bulk modulus; Mueller et al. 2004 keep volume
+    // with such a term) pushes it back; above, it is exactly zero, so
+    // ordinary deformations are untouched.
+    const double J = Fi.determinant();
+    if (J < kInversionBarrierJ) {
+      Eigen::Matrix3d cofactor;  // dJ/dF
+      cofactor.col(0) = Fi.col(1).cross(Fi.col(2));
+      cofactor.col(1) = Fi.col(2).cross(Fi.col(0));
+      cofactor.col(2) = Fi.col(0).cross(Fi.col(1));
+      const double bulk_Pa = model.lambda_Pa + 2.0 * model.mu_Pa / 3.0;
+      const double gap = J - kInversionBarrierJ;
+      energy_J += vi * 0.5 * bulk_Pa * gap * gap;
+      vP += vi * bulk_Pa * gap * cofactor;
+    }
     // U_i depends on x_j through F_i = sum_j (x_j - x_i) d_ij^T:
     // dU_i/dx_j = vP d_ij, dU_i/dx_i = -vP sum_j d_ij = vP gradient_self_i.
     for (std::int32_t k = model.first[static_cast<std::size_t>(i)]; k < model.first[static_cast<std::size_t>(i) + 1];
