@@ -2,8 +2,7 @@
 
 #include <cstdarg>
 #include <cstdio>
-
-#include "hapsim/bridge/json_writer.h"
+#include <nlohmann/json.hpp>
 
 namespace hapsim::bridge {
 
@@ -23,73 +22,60 @@ std::string Printf(const char* format, ...) {
 
 unsigned long long U(std::uint64_t v) { return static_cast<unsigned long long>(v); }
 
-void PercentilesMs(JsonWriter& w, const char* key, const common::Percentiles& p) {
-  w.BeginObject(key);
-  w.Field("count", static_cast<std::uint64_t>(p.count));
-  w.Field("p50", p.p50 * kMs);
-  w.Field("p99", p.p99 * kMs);
-  w.Field("max", p.max * kMs);
-  w.Field("mean", p.mean * kMs);
-  w.EndObject();
+using Json = nlohmann::ordered_json;  // members in the order written, as people read them
+
+// nlohmann::json writes a non-finite number as null, like an empty percentile's NaN.
+Json PercentilesMs(const common::Percentiles& p) {
+  return {{"count", p.count}, {"p50", p.p50 * kMs}, {"p99", p.p99 * kMs}, {"max", p.max * kMs}, {"mean", p.mean * kMs}};
 }
 
-void FlowJson(JsonWriter& w, const LoadFlow& f) {
-  w.Field("poses_sent", f.poses_sent);
-  w.Field("pose_write_failures", f.pose_write_failures);
-  w.Field("pose_rate_hz", f.pose_rate_hz);
-  w.Field("models_received", f.models_received);
-  w.Field("models_used", f.models_used);
-  w.Field("echo_regressions", f.echo_regressions);
-  PercentilesMs(w, "round_trip_ms", f.round_trip_s);
-  PercentilesMs(w, "model_age_ms", f.model_age_s);
-  w.Field("watchdog_warnings", f.safety.warnings);
-  w.Field("watchdog_fades", f.safety.fades);
-  w.Field("watchdog_disarms", f.safety.disarms);
-  w.Field("force_clamps", f.safety.clamped);
-  w.Field("force_rise_limited", f.safety.rate_limited);
-  w.Field("non_finite_forces", f.safety.non_finite);
+void AddFlow(Json& j, const LoadFlow& f) {
+  j["poses_sent"] = f.poses_sent;
+  j["pose_write_failures"] = f.pose_write_failures;
+  j["pose_rate_hz"] = f.pose_rate_hz;
+  j["models_received"] = f.models_received;
+  j["models_used"] = f.models_used;
+  j["echo_regressions"] = f.echo_regressions;
+  j["round_trip_ms"] = PercentilesMs(f.round_trip_s);
+  j["model_age_ms"] = PercentilesMs(f.model_age_s);
+  j["watchdog_warnings"] = f.safety.warnings;
+  j["watchdog_fades"] = f.safety.fades;
+  j["watchdog_disarms"] = f.safety.disarms;
+  j["force_clamps"] = f.safety.clamped;
+  j["force_rise_limited"] = f.safety.rate_limited;
+  j["non_finite_forces"] = f.safety.non_finite;
 }
 
-void DeviceJson(JsonWriter& w, const LoadDeviceReport& d) {
-  w.BeginObject();
-  w.Field("device_id", static_cast<std::uint64_t>(d.device_id));
-  w.Field("session", d.session);
-  FlowJson(w, d.flow);
-  w.Field("first_echo_seq", d.first_echo_seq);
-  w.Field("last_echo_seq", d.last_echo_seq);
-  w.Field("final_watchdog", ToString(d.final_watchdog));
-  w.Field("peak_force_n", d.peak_force_N);
-  w.EndObject();
+Json DeviceJson(const LoadDeviceReport& d) {
+  Json j = {{"device_id", d.device_id}, {"session", d.session}};
+  AddFlow(j, d.flow);
+  j["first_echo_seq"] = d.first_echo_seq;
+  j["last_echo_seq"] = d.last_echo_seq;
+  j["final_watchdog"] = ToString(d.final_watchdog);
+  j["peak_force_n"] = d.peak_force_N;
+  return j;
 }
 
-void TotalJson(JsonWriter& w, const LoadTotals& t) {
-  w.BeginObject("total");
-  w.Field("devices", static_cast<std::uint64_t>(t.devices));
-  w.Field("devices_with_models", static_cast<std::uint64_t>(t.devices_with_models));
-  w.Field("devices_disarmed", static_cast<std::uint64_t>(t.devices_disarmed));
-  FlowJson(w, t.flow);
-  w.EndObject();
+Json TotalJson(const LoadTotals& t) {
+  Json j = {
+      {"devices", t.devices}, {"devices_with_models", t.devices_with_models}, {"devices_disarmed", t.devices_disarmed}};
+  AddFlow(j, t.flow);
+  return j;
 }
 
-void ServerJson(JsonWriter& w, const ServerSessionStats& s) {
-  w.BeginObject();
-  w.Field("session_id", s.session_id);
-  if (!s.error.empty()) {
-    w.Field("error", s.error);
-    w.EndObject();
-    return;
-  }
-  w.Field("ticks", s.ticks);
-  w.Field("late_ticks", s.late_ticks);
-  w.Field("device_clocked_ticks", s.device_clocked_ticks);
-  w.Field("max_tick_lateness_ms", s.max_tick_lateness_s * kMs);
-  w.Field("poses_received", s.poses_received);
-  w.Field("poses_rejected", s.poses_rejected);
-  w.Field("poses_from_other_devices", s.poses_from_other_devices);
-  w.Field("force_models_sent", s.force_models_sent);
-  w.Field("owning_device_id", static_cast<std::uint64_t>(s.owning_device_id));
-  w.Field("device_streaming", s.device_streaming);
-  w.EndObject();
+Json ServerJson(const ServerSessionStats& s) {
+  if (!s.error.empty()) return {{"session_id", s.session_id}, {"error", s.error}};
+  return {{"session_id", s.session_id},
+          {"ticks", s.ticks},
+          {"late_ticks", s.late_ticks},
+          {"device_clocked_ticks", s.device_clocked_ticks},
+          {"max_tick_lateness_ms", s.max_tick_lateness_s * kMs},
+          {"poses_received", s.poses_received},
+          {"poses_rejected", s.poses_rejected},
+          {"poses_from_other_devices", s.poses_from_other_devices},
+          {"force_models_sent", s.force_models_sent},
+          {"owning_device_id", s.owning_device_id},
+          {"device_streaming", s.device_streaming}};
 }
 
 std::string TableRow(const std::string& device, const std::string& session, const LoadFlow& f,
@@ -154,42 +140,34 @@ std::string FormatLoadTable(const LoadReport& r) {
 }
 
 std::string FormatLoadJson(const LoadReport& r) {
-  JsonWriter w;
-  w.BeginObject();
-  w.Field("rate_hz", r.rate_hz);
-  w.Field("elapsed_s", r.elapsed_s);
-  w.BeginObject("servo_thread");
-  w.Field("ticks", r.servo.ticks);
-  w.Field("reanchors", r.servo.reanchors);
-  PercentilesMs(w, "lateness_ms", r.servo.lateness_s);
-  PercentilesMs(w, "work_ms", r.servo.work_s);
-  w.EndObject();
-  w.Field("models_for_unknown_devices", r.models_for_unknown_devices);
-  w.Field("models_for_other_sessions", r.models_for_other_sessions);
-  w.Field("models_from_other_servers", r.models_from_other_servers);
-  TotalJson(w, r.total);
-  w.BeginArray("per_device");
-  for (const auto& d : r.devices) DeviceJson(w, d);
-  w.EndArray();
+  Json j;
+  j["rate_hz"] = r.rate_hz;
+  j["elapsed_s"] = r.elapsed_s;
+  j["servo_thread"] = {{"ticks", r.servo.ticks},
+                       {"reanchors", r.servo.reanchors},
+                       {"lateness_ms", PercentilesMs(r.servo.lateness_s)},
+                       {"work_ms", PercentilesMs(r.servo.work_s)}};
+  j["models_for_unknown_devices"] = r.models_for_unknown_devices;
+  j["models_for_other_sessions"] = r.models_for_other_sessions;
+  j["models_from_other_servers"] = r.models_from_other_servers;
+  j["total"] = TotalJson(r.total);
+  j["per_device"] = Json::array();
+  for (const auto& d : r.devices) j["per_device"].push_back(DeviceJson(d));
   if (!r.server.empty()) {
-    w.BeginArray("server_sessions");
-    for (const auto& s : r.server) ServerJson(w, s);
-    w.EndArray();
+    j["server_sessions"] = Json::array();
+    for (const auto& s : r.server) j["server_sessions"].push_back(ServerJson(s));
   }
   if (!r.intervals.empty()) {
-    w.BeginArray("intervals");
+    j["intervals"] = Json::array();
     for (const auto& i : r.intervals) {
-      w.BeginObject();
-      w.Field("end_s", i.end_s);
-      PercentilesMs(w, "round_trip_ms", i.round_trip_s);
-      PercentilesMs(w, "model_age_ms", i.model_age_s);
-      w.EndObject();
+      j["intervals"].push_back({{"end_s", i.end_s},
+                                {"round_trip_ms", PercentilesMs(i.round_trip_s)},
+                                {"model_age_ms", PercentilesMs(i.model_age_s)}});
     }
-    w.EndArray();
-    w.Field("intervals_dropped", r.intervals_dropped);
+    j["intervals_dropped"] = r.intervals_dropped;
   }
-  w.EndObject();
-  return w.text();
+  // Invalid UTF-8 in a session id (never from our own ids) is replaced, not thrown.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string FormatLoadIntervalsCsv(const LoadReport& r) {
