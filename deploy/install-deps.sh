@@ -8,7 +8,7 @@ packages=(
   libprotobuf-dev protobuf-compiler libgrpc++-dev protobuf-compiler-grpc
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  libtomlplusplus-dev libssl-dev openssl libtinygltf-dev nlohmann-json3-dev
+  libtomlplusplus-dev libssl-dev openssl libtinygltf-dev nlohmann-json3-dev prometheus-cpp-dev
   python3 python3-scipy python3-numpy python3-grpcio curl
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth

@@ -3,19 +3,22 @@
 // status and keeps serving.
 #include "hapsim/service/metrics.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <chrono>
-#include <map>
-#include <regex>
-#include <sstream>
-#include <thread>
-
+#include <algorithm>
 #include <asio/connect.hpp>
 #include <asio/ip/tcp.hpp>
 #include <asio/read.hpp>
 #include <asio/write.hpp>
-#include <gtest/gtest.h>
+#include <chrono>
+#include <cstring>
+#include <ctime>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <thread>
 
 #include "hapsim/service/server_app.h"
 #include "hapsim/v1/session.grpc.pb.h"
@@ -71,21 +74,30 @@ TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
   EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4"), std::string::npos);
 
   // Every line is a HELP, a TYPE or a sample `name{labels} value`; every
-  // sample's family was declared with HELP and TYPE first.
+  // sample's family was declared with HELP and TYPE first (a histogram's
+  // samples are its name + _bucket, _sum, _count).
   const std::regex sample(R"(^([a-z_]+)(\{[a-z_]+="[^"]*"(,[a-z_]+="[^"]*")*\})? (-?[0-9.]+(e[-+]?[0-9]+)?)$)");
   std::map<std::string, int> declared;
+  std::set<std::string> histograms;
   std::map<std::string, double> values;
   std::istringstream lines(Body(response));
   std::string line;
   int samples = 0;
   while (std::getline(lines, line)) {
     if (line.rfind("# HELP ", 0) == 0 || line.rfind("# TYPE ", 0) == 0) {
-      ++declared[line.substr(7, line.find(' ', 7) - 7)];
+      const std::string family = line.substr(7, line.find(' ', 7) - 7);
+      ++declared[family];
+      if (line.rfind("# TYPE ", 0) == 0 && line.substr(line.rfind(' ') + 1) == "histogram") histograms.insert(family);
       continue;
     }
     std::smatch m;
     ASSERT_TRUE(std::regex_match(line, m, sample)) << "not Prometheus text: " << line;
-    EXPECT_EQ(declared[m[1]], 2) << m[1] << " has no HELP/TYPE";
+    std::string family = m[1];
+    for (const char* suffix : {"_bucket", "_sum", "_count"}) {
+      const std::string base = family.substr(0, family.size() - std::min(family.size(), std::strlen(suffix)));
+      if (family.size() > base.size() && family.substr(base.size()) == suffix && histograms.count(base)) family = base;
+    }
+    EXPECT_EQ(declared[family], 2) << m[1] << " has no HELP/TYPE";
     values[line.substr(0, line.rfind(' '))] = std::stod(m[4]);
     ++samples;
   }
@@ -101,6 +113,36 @@ TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
   const double m1_ticks = values["hapsim_session_ticks_total{session=\"m1\",scene=\"tissue_block\"}"];
   EXPECT_GT(work_s / m1_ticks, 0.0);
   EXPECT_LT(work_s / m1_ticks, 0.1);  // tens of µs in release; bounded loosely for sanitizer builds
+
+  // The tick's distributions: cumulative buckets ending at +Inf = count,
+  // the count within the ticks run, the sum the same wall time as the counter's.
+  const std::string m1_labels = "session=\"m1\",scene=\"tissue_block\"";
+  for (const char* h : {"hapsim_session_tick_work_seconds", "hapsim_session_tick_lateness_seconds"}) {
+    EXPECT_EQ(histograms.count(h), 1u) << h;
+    const double count = values[std::string(h) + "_count{" + m1_labels + "}"];
+    EXPECT_GE(count, 50.0) << h;
+    EXPECT_LE(count, static_cast<double>(m1->counters().ticks.load())) << h;
+    EXPECT_EQ(values[std::string(h) + "_bucket{" + m1_labels + ",le=\"+Inf\"}"], count) << h;
+    double previous = 0.0;
+    for (const double le : TickHistogram::kUpperBounds_s) {
+      std::ostringstream key;
+      key << h << "_bucket{" << m1_labels << ",le=\"" << le << "\"}";
+      ASSERT_EQ(values.count(key.str()), 1u) << key.str();
+      EXPECT_GE(values[key.str()], previous) << key.str();
+      previous = values[key.str()];
+    }
+  }
+  EXPECT_NEAR(values["hapsim_session_tick_work_seconds_sum{" + m1_labels + "}"] /
+                  values["hapsim_session_tick_work_seconds_count{" + m1_labels + "}"],
+              work_s / m1_ticks, 0.5 * work_s / m1_ticks);  // the same ticks, scraped a moment apart
+  // The standard process metrics, read from /proc.
+  EXPECT_GT(values["process_resident_memory_bytes"], 1e6);
+  EXPECT_GE(values["process_virtual_memory_bytes"], values["process_resident_memory_bytes"]);
+  EXPECT_GE(values["process_open_fds"], 3.0);
+  EXPECT_GE(values["process_max_fds"], values["process_open_fds"]);
+  EXPECT_GE(values["process_cpu_seconds_total"], 0.0);
+  const double now_s = static_cast<double>(std::time(nullptr));
+  EXPECT_NEAR(values["process_start_time_seconds"], now_s - 30.0, 35.0);  // started within the last minute
 }
 
 TEST_F(MetricsTest, GrpcCallsAreCountedByMethodAndCode) {

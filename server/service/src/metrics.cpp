@@ -1,142 +1,229 @@
 #include "hapsim/service/metrics.h"
 
-#include <sstream>
-#include <stdexcept>
+#include <prometheus/client_metric.h>
+#include <prometheus/metric_family.h>
+#include <prometheus/text_serializer.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/sysinfo.h>
+#include <sys/time.h>
+#include <unistd.h>
 
 #include <asio/ip/tcp.hpp>
 #include <asio/read_until.hpp>
 #include <asio/streambuf.hpp>
 #include <asio/write.hpp>
-#include <sys/socket.h>
-#include <sys/time.h>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
 
 namespace hapsim::service {
 namespace {
 
-// Prometheus label values escape \, " and newline.
-std::string Label(const std::string& v) {
-  std::string out;
-  for (const char c : v) {
-    if (c == '\\' || c == '"') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  return out;
-}
+using Labels = std::vector<prometheus::ClientMetric::Label>;
 
-class Writer {
+// Families in prometheus-cpp's model, serialised by its TextSerializer
+// (escaping, number format and histogram layout are the library's).
+class Families {
  public:
-  // One metric family: HELP, TYPE, then samples.
-  Writer& Family(const char* name, const char* type, const char* help) {
-    out_ << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n';
-    name_ = name;
+  Families& Family(const char* name, prometheus::MetricType type, const char* help) {
+    families_.push_back({name, help, type, {}});
     return *this;
   }
-  template <class T>
-  Writer& Sample(const std::string& labels, T value) {
-    out_ << name_ << labels << ' ' << value << '\n';
+  Families& Sample(Labels labels, double value) {
+    prometheus::ClientMetric m;
+    m.label = std::move(labels);
+    if (families_.back().type == prometheus::MetricType::Counter)
+      m.counter.value = value;
+    else
+      m.gauge.value = value;
+    families_.back().metric.push_back(std::move(m));
     return *this;
   }
-  std::string Text() const { return out_.str(); }
+  Families& Histogram(Labels labels, const TickHistogram::Snapshot& h) {
+    prometheus::ClientMetric m;
+    m.label = std::move(labels);
+    std::uint64_t cumulative = 0;
+    for (std::size_t b = 0; b < TickHistogram::kBuckets; ++b) {
+      cumulative += h.counts[b];
+      const double bound = b < TickHistogram::kUpperBounds_s.size() ? TickHistogram::kUpperBounds_s[b]
+                                                                    : std::numeric_limits<double>::infinity();
+      m.histogram.bucket.push_back({cumulative, bound});
+    }
+    m.histogram.sample_count = cumulative;
+    m.histogram.sample_sum = h.sum_s;
+    families_.back().metric.push_back(std::move(m));
+    return *this;
+  }
+  std::string Text() const { return prometheus::TextSerializer().Serialize(families_); }
 
  private:
-  std::ostringstream out_;
-  std::string name_;
+  std::vector<prometheus::MetricFamily> families_;
 };
+
+constexpr auto kCounter = prometheus::MetricType::Counter;
+constexpr auto kGauge = prometheus::MetricType::Gauge;
+constexpr auto kHistogram = prometheus::MetricType::Histogram;
+
+// The standard process metrics (as the Go and Python clients name them),
+// read from /proc/self at scrape time.
+void AddProcessMetrics(Families& f) {
+  const double ticks_per_s = static_cast<double>(::sysconf(_SC_CLK_TCK));
+  const double page_bytes = static_cast<double>(::sysconf(_SC_PAGESIZE));
+  std::ifstream stat_file("/proc/self/stat");
+  std::string stat((std::istreambuf_iterator<char>(stat_file)), std::istreambuf_iterator<char>());
+  // Fields after the command name "(...)": state is field 3; utime 14, stime 15, starttime 22, vsize 23, rss 24.
+  const auto close = stat.rfind(')');
+  if (close != std::string::npos) {
+    std::istringstream in(stat.substr(close + 2));
+    std::vector<std::string> field(3, "");  // field[k] is field k (1-based); 1 and 2 come before the state
+    for (std::string word; in >> word;) field.push_back(word);
+    auto number = [&](std::size_t k) { return k < field.size() ? std::strtod(field[k].c_str(), nullptr) : 0.0; };
+    struct sysinfo info {};
+    ::sysinfo(&info);
+    std::ifstream uptime_file("/proc/uptime");
+    double uptime_s = 0.0;
+    uptime_file >> uptime_s;
+    const double boot_unix_s = static_cast<double>(std::time(nullptr)) - uptime_s;
+    f.Family("process_cpu_seconds_total", kCounter, "Total user and system CPU time spent in seconds.")
+        .Sample({}, (number(14) + number(15)) / ticks_per_s);
+    f.Family("process_start_time_seconds", kGauge, "Start time of the process since unix epoch in seconds.")
+        .Sample({}, boot_unix_s + number(22) / ticks_per_s);
+    f.Family("process_virtual_memory_bytes", kGauge, "Virtual memory size in bytes.").Sample({}, number(23));
+    f.Family("process_resident_memory_bytes", kGauge, "Resident memory size in bytes.")
+        .Sample({}, number(24) * page_bytes);
+  }
+  std::size_t fds = 0;
+  std::error_code ec;
+  for (auto it = std::filesystem::directory_iterator("/proc/self/fd", ec);
+       !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    ++fds;
+  }
+  f.Family("process_open_fds", kGauge, "Number of open file descriptors.").Sample({}, static_cast<double>(fds));
+  rlimit limit{};
+  if (::getrlimit(RLIMIT_NOFILE, &limit) == 0) {
+    f.Family("process_max_fds", kGauge, "Maximum number of open file descriptors.")
+        .Sample({}, static_cast<double>(limit.rlim_cur));
+  }
+}
 
 }  // namespace
 
 std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounters& dds, const TickPoolStats& pool,
                           const GrpcCallCounter* calls, const AuthCounters* auth) {
   const auto sessions = registry.List();
-  Writer w;
-  w.Family("hapsim_sessions", "gauge", "Sessions open on this server.").Sample("", sessions.size());
-  w.Family("hapsim_poses_accepted_total", "counter", "Device poses accepted by any session.")
-      .Sample("", dds.poses_accepted.load());
-  w.Family("hapsim_poses_dropped_total", "counter", "Device poses dropped before a session used them, by reason.")
-      .Sample("{reason=\"malformed\"}", dds.poses_rejected.load())
-      .Sample("{reason=\"wrong_session\"}", dds.poses_wrong_session.load())
-      .Sample("{reason=\"other_device\"}", dds.poses_other_device.load())
-      .Sample("{reason=\"stale\"}", dds.poses_stale.load());
-  w.Family("hapsim_force_models_written_total", "counter", "Local force models written to DDS.")
-      .Sample("", dds.force_models_written.load());
-  w.Family("hapsim_dds_foreign_model_writers", "gauge",
+  Families w;
+  w.Family("hapsim_sessions", kGauge, "Sessions open on this server.").Sample({}, static_cast<double>(sessions.size()));
+  w.Family("hapsim_poses_accepted_total", kCounter, "Device poses accepted by any session.")
+      .Sample({}, static_cast<double>(dds.poses_accepted.load()));
+  w.Family("hapsim_poses_dropped_total", kCounter, "Device poses dropped before a session used them, by reason.")
+      .Sample({{"reason", "malformed"}}, static_cast<double>(dds.poses_rejected.load()))
+      .Sample({{"reason", "wrong_session"}}, static_cast<double>(dds.poses_wrong_session.load()))
+      .Sample({{"reason", "other_device"}}, static_cast<double>(dds.poses_other_device.load()))
+      .Sample({{"reason", "stale"}}, static_cast<double>(dds.poses_stale.load()));
+  w.Family("hapsim_force_models_written_total", kCounter, "Local force models written to DDS.")
+      .Sample({}, static_cast<double>(dds.force_models_written.load()));
+  w.Family("hapsim_dds_foreign_model_writers", kGauge,
            "Force-model writers of another participant (another server) in this server's session partitions, "
            "one per writer and session. Should be 0: give each server its own DDS domain.")
-      .Sample("", dds.foreign_model_writers.load());
-  w.Family("hapsim_tick_pool_ticks_total", "counter", "Session ticks run by the tick pool.").Sample("", pool.ticks);
-  w.Family("hapsim_tick_pool_wakeups_total", "counter", "Tick pool worker wake-ups.").Sample("", pool.wakeups);
+      .Sample({}, static_cast<double>(dds.foreign_model_writers.load()));
+  w.Family("hapsim_tick_pool_ticks_total", kCounter, "Session ticks run by the tick pool.")
+      .Sample({}, static_cast<double>(pool.ticks));
+  w.Family("hapsim_tick_pool_wakeups_total", kCounter, "Tick pool worker wake-ups.")
+      .Sample({}, static_cast<double>(pool.wakeups));
   if (auth) {
-    w.Family("hapsim_auth_failures_total", "counter",
+    w.Family("hapsim_auth_failures_total", kCounter,
              "Calls refused by the class config: no or unknown token, or a role/session the token may not touch.")
-        .Sample("{reason=\"unauthenticated\"}", auth->unauthenticated.load())
-        .Sample("{reason=\"permission_denied\"}", auth->permission_denied.load());
+        .Sample({{"reason", "unauthenticated"}}, static_cast<double>(auth->unauthenticated.load()))
+        .Sample({{"reason", "permission_denied"}}, static_cast<double>(auth->permission_denied.load()));
   }
   if (calls) {
-    w.Family("hapsim_grpc_calls_total", "counter", "gRPC calls answered, by method and status code.");
+    w.Family("hapsim_grpc_calls_total", kCounter, "gRPC calls answered, by method and status code.");
     for (const auto& [method, counts] : calls->Snapshot()) {
       for (int code = 0; code < GrpcCallCounter::kCodes; ++code) {
         if (counts[static_cast<std::size_t>(code)] == 0) continue;
-        w.Sample("{method=\"" + Label(method) + "\",code=\"" + GrpcCodeName(code) + "\"}",
-                 counts[static_cast<std::size_t>(code)]);
+        w.Sample({{"method", method}, {"code", GrpcCodeName(code)}},
+                 static_cast<double>(counts[static_cast<std::size_t>(code)]));
       }
     }
   }
-
   // Per session: one family at a time, a sample per session.
   struct PerSession {
     const char* name;
-    const char* type;
+    prometheus::MetricType type;
     const char* help;
     double (*get)(const Session&);
   };
   static const PerSession kPerSession[] = {
-      {"hapsim_session_ticks_total", "counter", "Ticks the session ran.",
+      {"hapsim_session_ticks_total", kCounter, "Ticks the session ran.",
        [](const Session& s) { return static_cast<double>(s.counters().ticks.load()); }},
-      {"hapsim_session_tick_seconds_total", "counter",
+      {"hapsim_session_tick_seconds_total", kCounter,
        "Wall time spent in the session's ticks up to the scene stepped (divide by ticks for the mean tick time).",
        [](const Session& s) { return static_cast<double>(s.counters().tick_work_ns.load()) * 1e-9; }},
-      {"hapsim_session_late_ticks_total", "counter", "Ticks that started more than one period after they were due.",
+      {"hapsim_session_late_ticks_total", kCounter, "Ticks that started more than one period after they were due.",
        [](const Session& s) { return static_cast<double>(s.counters().late_ticks.load()); }},
-      {"hapsim_session_max_tick_lateness_seconds", "gauge", "Worst start delay of a tick after it was due.",
+      {"hapsim_session_max_tick_lateness_seconds", kGauge, "Worst start delay of a tick after it was due.",
        [](const Session& s) { return static_cast<double>(s.counters().max_lateness_ns.load()) * 1e-9; }},
-      {"hapsim_session_sim_time_seconds", "gauge", "Simulated time of the session.",
+      {"hapsim_session_sim_time_seconds", kGauge, "Simulated time of the session.",
        [](const Session& s) { return s.counters().sim_time_s.load(); }},
-      {"hapsim_session_viewers", "gauge", "Open Subscribe streams.",
+      {"hapsim_session_viewers", kGauge, "Open Subscribe streams.",
        [](const Session& s) { return static_cast<double>(s.counters().viewers.load()); }},
-      {"hapsim_session_viewer_frames_sent_total", "counter", "Frames written to the session's viewers.",
+      {"hapsim_session_viewer_frames_sent_total", kCounter, "Frames written to the session's viewers.",
        [](const Session& s) { return static_cast<double>(s.counters().viewer_frames_sent.load()); }},
-      {"hapsim_session_viewer_bytes_sent_total", "counter", "Encoded bytes of those frames.",
+      {"hapsim_session_viewer_bytes_sent_total", kCounter, "Encoded bytes of those frames.",
        [](const Session& s) { return static_cast<double>(s.counters().viewer_bytes_sent.load()); }},
-      {"hapsim_session_viewer_frames_coalesced_total", "counter",
+      {"hapsim_session_viewer_frames_coalesced_total", kCounter,
        "Snapshots a slow viewer never got (replaced by newer ones).",
        [](const Session& s) { return static_cast<double>(s.counters().viewer_frames_coalesced.load()); }},
-      {"hapsim_session_poses_received_total", "counter", "Poses the session accepted from its device.",
+      {"hapsim_session_poses_received_total", kCounter, "Poses the session accepted from its device.",
        [](const Session& s) { return static_cast<double>(s.counters().poses_received.load()); }},
-      {"hapsim_session_poses_rejected_total", "counter", "Malformed poses dropped (NaN, out of range).",
+      {"hapsim_session_poses_rejected_total", kCounter, "Malformed poses dropped (NaN, out of range).",
        [](const Session& s) { return static_cast<double>(s.counters().poses_rejected.load()); }},
-      {"hapsim_session_poses_stale_total", "counter", "Owner's poses dropped as stale (seq not rising).",
+      {"hapsim_session_poses_stale_total", kCounter, "Owner's poses dropped as stale (seq not rising).",
        [](const Session& s) { return static_cast<double>(s.counters().poses_stale.load()); }},
-      {"hapsim_session_poses_other_device_total", "counter", "Poses dropped because another device owns the session.",
+      {"hapsim_session_poses_other_device_total", kCounter, "Poses dropped because another device owns the session.",
        [](const Session& s) { return static_cast<double>(s.counters().poses_from_other_devices.load()); }},
-      {"hapsim_session_force_models_sent_total", "counter", "Local force models sent to the session's device.",
+      {"hapsim_session_force_models_sent_total", kCounter, "Local force models sent to the session's device.",
        [](const Session& s) { return static_cast<double>(s.counters().force_models_sent.load()); }},
-      {"hapsim_session_numerical_resets_total", "counter", "Physics blow-ups detected and recovered.",
+      {"hapsim_session_numerical_resets_total", kCounter, "Physics blow-ups detected and recovered.",
        [](const Session& s) { return static_cast<double>(s.counters().numerical_resets.load()); }},
-      {"hapsim_session_device_streaming", "gauge", "1 while a pose arrived within the pose timeout.",
+      {"hapsim_session_device_streaming", kGauge, "1 while a pose arrived within the pose timeout.",
        [](const Session& s) { return s.counters().device_streaming.load() ? 1.0 : 0.0; }},
-      {"hapsim_session_peak_tool_force_newtons", "gauge", "Largest tool force since creation or reset.",
+      {"hapsim_session_peak_tool_force_newtons", kGauge, "Largest tool force since creation or reset.",
        [](const Session& s) { return s.counters().peak_tool_force_N.load(); }},
   };
+  auto labels = [](const Session& s) { return Labels{{"session", s.id()}, {"scene", s.config().scene}}; };
   for (const auto& m : kPerSession) {
     w.Family(m.name, m.type, m.help);
-    for (const auto& s : sessions) {
-      w.Sample("{session=\"" + Label(s->id()) + "\",scene=\"" + Label(s->config().scene) + "\"}", m.get(*s));
-    }
+    for (const auto& s : sessions) w.Sample(labels(*s), m.get(*s));
   }
+  // Distributions the tick records without a lock (tick_histogram.h).
+  struct PerSessionHistogram {
+    const char* name;
+    const char* help;
+    const TickHistogram& (*get)(const Session&);
+  };
+  static const PerSessionHistogram kHistograms[] = {
+      {"hapsim_session_tick_work_seconds", "Wall time of a tick up to the scene stepped.",
+       [](const Session& s) -> const TickHistogram& { return s.counters().tick_work; }},
+      {"hapsim_session_tick_lateness_seconds", "How long after it was due a tick started.",
+       [](const Session& s) -> const TickHistogram& { return s.counters().tick_lateness; }},
+      {"hapsim_session_pose_to_model_seconds",
+       "From a fresh pose's arrival to the force model of the tick it clocked written to DDS: the server's share "
+       "of the device's round trip.",
+       [](const Session& s) -> const TickHistogram& { return s.counters().pose_to_model; }},
+  };
+  for (const auto& h : kHistograms) {
+    w.Family(h.name, kHistogram, h.help);
+    for (const auto& s : sessions) w.Histogram(labels(*s), h.get(*s).Read());
+  }
+  AddProcessMetrics(w);
   return w.Text();
 }
 

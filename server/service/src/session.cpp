@@ -85,8 +85,9 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   const core::LocalForceModel model = scene_->ForceModel();
   const double tool_force_N = scene_->ToolForce_W_N().norm();
   RecordTrial(in, model.state, tool_force_N);
-  counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns)),
-                                   std::memory_order_relaxed);
+  const std::int64_t work_ns = std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns);
+  counters_.tick_work_ns.fetch_add(static_cast<std::uint64_t>(work_ns), std::memory_order_relaxed);
+  counters_.tick_work.Observe_ns(work_ns);
   RecordTiming(in, due_ns, now_ns, tool_force_N);
   interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
   if (in.tool.valid) PublishForceModel(in, model);
@@ -132,6 +133,7 @@ std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::i
 
 void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N) {
   const std::int64_t lateness_ns = now_ns - due_ns;
+  counters_.tick_lateness.Observe_ns(lateness_ns);
   if (lateness_ns > period_ns_) counters_.late_ticks.fetch_add(1, std::memory_order_relaxed);
   AtomicMax(counters_.max_lateness_ns, lateness_ns);
   if (in.fresh_pose) counters_.device_clocked_ticks.fetch_add(1, std::memory_order_relaxed);
@@ -173,7 +175,10 @@ void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel
   m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).
-  if (port_->WriteForceModel(m)) counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
+  if (port_->WriteForceModel(m)) {
+    counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
+    if (in.fresh_pose) counters_.pose_to_model.Observe_ns(common::SteadyNowNs() - last_pose_.received_ns);
+  }
 }
 
 void Session::PublishSnapshot(const TickInput& in) {

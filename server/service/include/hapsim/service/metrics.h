@@ -1,8 +1,12 @@
-// Prometheus text exposition (format 0.0.4) of the server's counters, and a
-// minimal HTTP endpoint serving it at GET /metrics (hand-written on Asio;
-// moving to Debian's prometheus-cpp is open work). Every metric is
-// documented in docs/metrics.md. Not exported: device round trips (the
-// bridges measure them, not the server).
+// Prometheus text exposition (format 0.0.4) of the server's counters,
+// distributions and the standard process metrics — built in prometheus-cpp's
+// metric model and written by its TextSerializer (Debian's prometheus-cpp-dev)
+// — and a minimal HTTP endpoint serving it at GET /metrics (on Asio: small,
+// bounded against slow clients, no extra web server). The tick records its
+// histograms lock-free (tick_histogram.h); they become prometheus-cpp
+// histograms at scrape time. Every metric is documented in docs/metrics.md.
+// Not exported: device round trips (the bridges measure them; the server's
+// share is hapsim_session_pose_to_model_seconds).
 #pragma once
 #include <atomic>
 #include <functional>

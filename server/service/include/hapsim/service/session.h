@@ -31,6 +31,7 @@
 #include "hapsim/service/scene_snapshot.h"
 #include "hapsim/service/session_port.h"
 #include "hapsim/service/snapshot_ring.h"
+#include "hapsim/service/tick_histogram.h"
 #include "hapsim/service/tick_input.h"
 #include "hapsim/service/tick_pool.h"
 #include "hapsim/service/trial_tracker.h"
@@ -82,6 +83,9 @@ struct SessionCounters {
   std::atomic<double> sim_time_s{0.0};
   std::atomic<double> peak_tool_force_N{0.0};
   std::atomic<std::uint32_t> viewers{0};               // kept by the ViewerHub
+  TickHistogram tick_work;                             // a tick's wall time up to the scene stepped
+  TickHistogram tick_lateness;                         // how long after its due time a tick started
+  TickHistogram pose_to_model;                         // a fresh pose's arrival to its force model written
 };
 
 class Session : public TickTask {
