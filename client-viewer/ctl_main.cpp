@@ -299,7 +299,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (known->second == IdArg::kOneId && ids.empty()) {
-    std::fprintf(stderr, "hapsim-ctl: %s needs a session id\n", command.c_str());
+    std::fprintf(stderr, "hapsim-ctl: %s needs a %s\n", command.c_str(),
+                 command == "push" ? "class name" : "session id");
     return 2;
   }
   const std::string id = ids.empty() ? "" : ids[0];
@@ -487,7 +488,8 @@ int main(int argc, char** argv) {
       return 0;
     }
     std::FILE* f = std::fopen(file.c_str(), "w");
-    if (!f || std::fputs(r.csv().c_str(), f) < 0 || std::fclose(f) != 0) {
+    const bool written = f && std::fputs(r.csv().c_str(), f) >= 0;
+    if (!f || std::fclose(f) != 0 || !written) {
       std::fprintf(stderr, "hapsim-ctl: cannot write %s\n", file.c_str());
       return 1;
     }

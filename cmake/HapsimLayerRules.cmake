@@ -9,8 +9,10 @@
 #   hapsim::dds       common + Cyclone DDS (+ the generated DDS types)
 #   hapsim::proto     protobuf + gRPC (generated code)
 #   hapsim::service   core, common, dds, proto, gRPC, toml++ and OpenSSL's
-#                     crypto (class config, token hashes) — the server
-#   hapsim::bridge    core (force-model law), common, dds — no gRPC at all
+#                     crypto (class config, token hashes), prometheus-cpp's
+#                     core (/metrics) — the server
+#   hapsim::bridge    core (force-model law), common, dds, nlohmann-json
+#                     (hapsim-load's report) — no gRPC at all
 #   hapsim::viewer    common, proto, gRPC client, tinygltf (export) — no physics, no DDS
 #   hapsim::viewer_gui  viewer + GLFW, OpenGL/EGL, Dear ImGui, stb — rendering on
 #                     top of the mesh cache; the cache and client never include GL
@@ -53,14 +55,14 @@ set(_common hapsim_common spdlog::spdlog)
 set(_dds hapsim_dds hapsim_dds_types CycloneDDS::ddsc ${_common})
 set(_proto hapsim_proto protobuf::libprotobuf gRPC::grpc++ gRPC::grpc)
 set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen TinyGLTF::TinyGLTF)
-set(_bridge hapsim_bridge ${_core} ${_dds})
+set(_bridge hapsim_bridge ${_core} ${_dds} nlohmann_json::nlohmann_json)
 hapsim_layer_allows(hapsim_core Eigen3::Eigen)
 hapsim_layer_allows(hapsim_io ${_core})
 hapsim_layer_allows(hapsim_common spdlog::spdlog)
 hapsim_layer_allows(hapsim_dds_types CycloneDDS::ddsc)
 hapsim_layer_allows(hapsim_dds ${_dds})
 hapsim_layer_allows(hapsim_proto ${_proto})
-set(_service_extras tomlplusplus::tomlplusplus OpenSSL::Crypto)
+set(_service_extras tomlplusplus::tomlplusplus OpenSSL::Crypto prometheus-cpp::core)
 hapsim_layer_allows(hapsim_service hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim_bridge ${_bridge})
 hapsim_layer_allows(hapsim_viewer ${_viewer})

@@ -89,7 +89,14 @@ bool ViewerClient::Run() {
         }
       }
       stats_.last_sim_time_s = frame.sim_time_s();
-      stats_.peak_tool_force_N = std::max(stats_.peak_tool_force_N, frame.peak_force_n());
+      // The 1 kHz peak since the previous frame; a server that does not send it: the frame's own force.
+      double peak_N = frame.peak_force_n();
+      if (peak_N == 0.0 && frame.tool().force_n_size() == 3) {
+        peak_N = std::sqrt(frame.tool().force_n(0) * frame.tool().force_n(0) +
+                           frame.tool().force_n(1) * frame.tool().force_n(1) +
+                           frame.tool().force_n(2) * frame.tool().force_n(2));
+      }
+      stats_.peak_tool_force_N = std::max(stats_.peak_tool_force_N, peak_N);
       stats_.last_contact_state = frame.tool().contact_state();
 
       const bool injected_loss = first_stream && options_.debug_drop_seq >= 0 &&

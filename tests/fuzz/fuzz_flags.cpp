@@ -38,8 +38,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   flags.Add("verbose", &verbose, "switch");
   std::string error;
   try {
-    const auto r = flags.Parse(static_cast<int>(argv.size() - 1), argv.data(), &error);
+    const int argc = static_cast<int>(argv.size() - 1);
+    const auto r = flags.Parse(argc, argv.data(), &error);
     if (r == hapsim::common::Flags::Result::kError && error.empty()) std::abort();  // an error always says why
+    // As hapsim-ctl: global flags up to the command, then the command's own
+    // flags (a repeatable one) and its positional ids.
+    int command_at = -1;
+    error.clear();
+    const auto global = flags.Parse(argc, argv.data(), &error, &command_at);
+    if (command_at < 1 || command_at > argc) std::abort();
+    if (global == hapsim::common::Flags::Result::kOk && command_at < argc) {
+      std::vector<std::string> params, ids;
+      std::string scene;
+      hapsim::common::Flags command("hapsim-fuzz cmd", "a command", "ID [flags]");
+      command.Add("scene", &scene, "a scene");
+      command.AddList("param", &params, "KEY=NUMBER");
+      command.AllowPositionals(&ids);
+      error.clear();
+      const auto c = command.Parse(argc - command_at, argv.data() + command_at, &error);
+      if (c == hapsim::common::Flags::Result::kError && error.empty()) std::abort();
+      if (c == hapsim::common::Flags::Result::kOk && ids.size() + params.size() > static_cast<std::size_t>(argc))
+        std::abort();
+    }
   } catch (...) {
     std::abort();
   }

@@ -22,6 +22,8 @@ for name in ("a", "b"):
 
 m = re.search(r"following server ([0-9a-f]{16}); models from another server dropped (\d+)", bridge)
 check(m is not None, "the bridge says which server it follows")
+if m is None:
+    finish()
 followed_instance, dropped = m.group(1), int(m.group(2))
 followed = [n for n, s in servers.items() if s["instance"] == followed_instance]
 check(len(followed) == 1, f"the bridge follows one of the two servers ({followed_instance})")
@@ -31,8 +33,12 @@ print(f"following the {ours['scene']} server: it wrote {ours['written']} models,
 
 received = int(re.search(r"force models received (\d+)", bridge).group(1))
 check(received <= ours["written"], f"models rendered ({received}) <= the followed server's ({ours['written']})")
-check(dropped >= 0.9 * other["written"],
-      f"the other server's models reached the bridge and were dropped: {dropped} >= 90 % of {other['written']}")
+# A server writes models until its device's pose is 250 ms old (--pose-timeout-ms):
+# ~250 of the other's were written after the bridge had gone.
+reachable = other["written"] - 250
+check(dropped >= 0.9 * reachable,
+      f"the other server's models reached the bridge and were dropped: {dropped} >= 90 % of {reachable} "
+      f"({other['written']} written, the last 250 ms after the bridge left)")
 check(int(re.search(r"server switches (\d+)", bridge).group(1)) == 0, "no server switch while both talk")
 
 # The force at the stylus is the followed scene's: its peak matches that

@@ -83,6 +83,33 @@ TEST(LiveScene, AFrameThatChangesNothingIsCountedButNotNew) {
   EXPECT_NEAR(view.tool.tip_m.z(), 0.002, 1e-12);
 }
 
+// The device stops: frames carry no tool pose any more, and the force they
+// carry (the scene's, 0) replaces the last one felt — the panel and the plot
+// must not keep showing 0.5 N.
+TEST(LiveScene, WhenTheDeviceStopsTheToolGoesAndItsLastForceWithIt) {
+  viewer::MeshCache cache;
+  LiveScene live;
+  auto key = GridKeyframe(3, 0.01, "skin");
+  key.set_sim_time_s(1.0);
+  for (const double v : {0.0, 0.0, -0.001}) key.mutable_tool()->add_tip_m(v);
+  for (const double v : {0.0, 0.0, 0.5}) key.mutable_tool()->add_force_n(v);
+  ASSERT_EQ(cache.Apply(key), viewer::ApplyResult::kApplied);
+  live.OnFrame(key, cache);
+  hapsim::v1::Frame gone;
+  gone.set_seq(1);
+  gone.set_sim_time_s(1.1);
+  gone.mutable_delta();
+  for (const double v : {0.0, 0.0, 0.0}) gone.mutable_tool()->add_force_n(v);
+  ASSERT_EQ(cache.Apply(gone), viewer::ApplyResult::kApplied);
+  live.OnFrame(gone, cache);
+  SceneView view;
+  ASSERT_TRUE(live.CopyIfNewer(&view));
+  EXPECT_FALSE(view.tool.valid);
+  EXPECT_EQ(view.tool.force_N.norm(), 0.0);
+  ASSERT_EQ(view.history.size(), 2u);
+  EXPECT_EQ(view.history.back().force_N, 0.0);
+}
+
 TEST(LiveScene, ToolEventsAndHistoryFollowTheFrames) {
   viewer::MeshCache cache;
   LiveScene live;

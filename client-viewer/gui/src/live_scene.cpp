@@ -103,9 +103,10 @@ void LiveScene::OnFrame(const hapsim::v1::Frame& frame, const viewer::MeshCache&
                              : Eigen::Quaterniond::Identity();
     if (s.tool.orientation.norm() < 1e-9) s.tool.orientation = Eigen::Quaterniond::Identity();
     s.tool.orientation.normalize();
-    s.tool.force_N = tool.force_n_size() == 3 ? Eigen::Vector3d(tool.force_n(0), tool.force_n(1), tool.force_n(2))
-                                              : Eigen::Vector3d::Zero();
   }
+  // The force comes with or without a pose (none streams: the scene's force, 0).
+  s.tool.force_N = tool.force_n_size() == 3 ? Eigen::Vector3d(tool.force_n(0), tool.force_n(1), tool.force_n(2))
+                                            : Eigen::Vector3d::Zero();
   s.tool.contact_state = tool.contact_state();
   for (const auto& e : frame.events()) {
     if (e.kind() == "reset") s.history.clear();

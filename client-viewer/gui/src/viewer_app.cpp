@@ -299,6 +299,7 @@ int RunViewerGui(const GuiOptions& options) {
   const bool paced = window && options.benchmark_seconds == 0.0;
   RedrawPolicy redraw(options.max_fps);
   std::uint64_t board_updates = 0;
+  bool pending_change = false;  // a new frame or board update not drawn yet
   while (true) {
     // No --session: the class's first session, once the class lists one
     // (never a session outside the class, which would be refused).
@@ -325,7 +326,7 @@ int RunViewerGui(const GuiOptions& options) {
     if (!options.replay_path.empty() && !still && options.benchmark_seconds == 0.0)
       replay.Advance(Seconds(Clock::now() - start), &live);
     const double elapsed = Seconds(Clock::now() - start);
-    bool changed = live.CopyIfNewer(&scene);
+    pending_change |= live.CopyIfNewer(&scene);  // kept until drawn: an early wake must not lose it
     const bool time_up = (options.seconds > 0.0 && elapsed >= options.seconds) ||
                          (options.benchmark_seconds > 0.0 && elapsed >= options.benchmark_seconds) ||
                          (options.frames > 0 && live.FramesReceived() >= options.frames) ||
@@ -334,10 +335,10 @@ int RunViewerGui(const GuiOptions& options) {
       if (redraw.WaitBefore(elapsed) > 0.0) continue;  // woken early by input: drawn when due
       if (board) {
         const std::uint64_t updates = board->View().updates;
-        changed |= updates != board_updates;
+        pending_change |= updates != board_updates;
         board_updates = updates;
       }
-      if (!redraw.ShouldDraw(elapsed, changed, std::exchange(input_seen, false))) {
+      if (!redraw.ShouldDraw(elapsed, pending_change, std::exchange(input_seen, false))) {
         glfwWaitEventsTimeout(redraw.period_s());  // nothing new: look again a frame later, or at input
         continue;
       }
@@ -352,6 +353,7 @@ int RunViewerGui(const GuiOptions& options) {
     }
     draw_frame(width, height, false);
     redraw.Drawn(elapsed);
+    pending_change = false;
     if (time_up) {
       glFinish();
       if (!options.png_path.empty()) {

@@ -5,7 +5,6 @@
 #include <prometheus/text_serializer.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/sysinfo.h>
 #include <sys/time.h>
 #include <unistd.h>
 
@@ -14,7 +13,6 @@
 #include <asio/streambuf.hpp>
 #include <asio/write.hpp>
 #include <cstdlib>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -85,12 +83,16 @@ void AddProcessMetrics(Families& f) {
     std::vector<std::string> field(3, "");  // field[k] is field k (1-based); 1 and 2 come before the state
     for (std::string word; in >> word;) field.push_back(word);
     auto number = [&](std::size_t k) { return k < field.size() ? std::strtod(field[k].c_str(), nullptr) : 0.0; };
-    struct sysinfo info {};
-    ::sysinfo(&info);
-    std::ifstream uptime_file("/proc/uptime");
-    double uptime_s = 0.0;
-    uptime_file >> uptime_s;
-    const double boot_unix_s = static_cast<double>(std::time(nullptr)) - uptime_s;
+    // The boot time in unix seconds: /proc/stat's btime, as the Go and Python clients read it.
+    double boot_unix_s = 0.0;
+    std::ifstream proc_stat("/proc/stat");
+    for (std::string key; proc_stat >> key;) {
+      if (key == "btime") {
+        proc_stat >> boot_unix_s;
+        break;
+      }
+      proc_stat.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
     f.Family("process_cpu_seconds_total", kCounter, "Total user and system CPU time spent in seconds.")
         .Sample({}, (number(14) + number(15)) / ticks_per_s);
     f.Family("process_start_time_seconds", kGauge, "Start time of the process since unix epoch in seconds.")

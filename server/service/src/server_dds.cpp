@@ -146,6 +146,7 @@ void ServerDds::TakePublications() {
   publications_.Take([&](const hapsim::dds::RemotePublication& pub) {
     if (!pub.alive) {
       changed |= foreign_model_writers_.erase(pub.handle) > 0;
+      std::erase_if(warned_, [&](const auto& pair) { return pair.first == pub.handle; });
     } else if (pub.topic == hapsim::dds::kModelTopic) {
       foreign_model_writers_[pub.handle] = pub;
       changed = true;
@@ -156,6 +157,8 @@ void ServerDds::TakePublications() {
 
 void ServerDds::CheckForeignModelWriters() {
   if (!table_) return;
+  // A session closed and opened again against the same writer is warned again.
+  std::erase_if(warned_, [&](const auto& pair) { return table_->find(pair.second) == table_->end(); });
   std::uint64_t count = 0;
   for (const auto& [id, session] : *table_) {
     const std::string partition = hapsim::dds::SessionPartition(id);

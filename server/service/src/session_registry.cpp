@@ -65,10 +65,12 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     config.pose_timeout_s = defaults_.pose_timeout_s;
     config.pose_slack_s = defaults_.pose_slack_s;
     config.targets = targets;
-    auto port = transport_->Open(config.id);
-    // The scene and the session's first-touched buffers, at low priority.
+    // The scene and the session's first-touched buffers, at low priority;
+    // the DDS endpoints only once the scene built (a failed build leaves no
+    // writer in the session's partition for another server to see).
     RunAtLowPriority([&] {
       auto built = core::MakeScene({config.scene, config.params});
+      auto port = transport_->Open(config.id);
       session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port));
     });
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters

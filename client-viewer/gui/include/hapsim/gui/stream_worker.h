@@ -26,8 +26,9 @@ class StreamWorker {
   ~StreamWorker();  // stops and joins
   void Stop();
   std::uint64_t reconnects() const { return reconnects_; }
-  // Stops, joins and returns the mesh as the last stream left it (full
-  // precision, for --obj/--export), or nothing if no keyframe ever came.
+  // Stops, joins and returns the mesh as the last stream left it (the
+  // stream's quantised positions, as the headless viewer writes them, for
+  // --obj/--export), or nothing if no keyframe ever came.
   std::optional<viewer::CompactMesh> StopAndTakeMesh();
 
  private:

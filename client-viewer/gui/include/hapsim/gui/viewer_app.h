@@ -32,7 +32,7 @@ struct GuiOptions {
   double max_fps = 60.0;  // a window draws on change, at most this often
   int width_px = 1280, height_px = 720;
   double seconds = 0.0;             // stop after this long (0: until closed)
-  std::uint64_t frames = 0;         // stop after this many frames drawn with a mesh (0: no limit)
+  std::uint64_t frames = 0;         // stop after this many frames received (0: no limit)
   double benchmark_seconds = 0.0;   // render flat out this long, re-uploading positions every frame; print fps
   std::optional<CameraPose> camera; // fixed camera (else fitted to the mesh)
   bool follow_tool = false;

@@ -14,7 +14,7 @@ namespace hapsim::service {
 
 class TickHistogram {
  public:
-  // Upper bounds [s] of the finite buckets: 10 us to 20 ms in 1-2-5 steps
+  // Upper bounds [s] of the finite buckets: 10 us to 50 ms in 1-2-5 steps
   // (a tick's work, its start delay, a pose's wait for its model); +Inf is
   // the last bucket.
   static constexpr std::array<double, 12> kUpperBounds_s = {1e-5, 2e-5, 5e-5, 1e-4, 2e-4, 5e-4,
