@@ -7,6 +7,8 @@
 #   hapsim::io        core (files in, arrays out)
 #   hapsim::common    spdlog, threads (flags, logging, clocks, mailboxes)
 #   hapsim::dds       common + Cyclone DDS (+ the generated DDS types)
+#   hapsim::wire      core + the generated DDS types: the only converters
+#                     between the topics' IDL structs and core types
 #   hapsim::proto     protobuf + gRPC (generated code)
 #   hapsim::service   core, common, dds, proto, gRPC, toml++ and OpenSSL's
 #                     crypto (class config, token hashes), prometheus-cpp's
@@ -35,6 +37,8 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "grpc|grpcpp|dds/|ddsc|google/protobuf|haptics\\.h|hapsim/(core|dds|io|service|bridge|viewer|v1)/")
   hapsim_forbid_includes(hapsim::dds TARGET hapsim_dds DIRS ${PROJECT_SOURCE_DIR}/server/dds
     PATTERN "grpc|grpcpp|google/protobuf|asio|hapsim/(core|io|service|bridge|viewer|v1)/")
+  hapsim_forbid_includes(hapsim::wire TARGET hapsim_wire DIRS ${PROJECT_SOURCE_DIR}/wire
+    PATTERN "grpc|grpcpp|google/protobuf|asio|spdlog|dds/dds\\.h|hapsim/(common|dds|io|service|bridge|viewer|v1)/|${_std_os}")
   hapsim_forbid_includes(hapsim::service TARGET hapsim_service DIRS ${PROJECT_SOURCE_DIR}/server/service
     PATTERN "hapsim/(bridge|viewer)/")
   hapsim_forbid_includes(hapsim::bridge TARGET hapsim_bridge
@@ -55,18 +59,20 @@ set(_common hapsim_common spdlog::spdlog)
 set(_dds hapsim_dds hapsim_dds_types CycloneDDS::ddsc ${_common})
 set(_proto hapsim_proto protobuf::libprotobuf gRPC::grpc++ gRPC::grpc)
 set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen TinyGLTF::TinyGLTF)
-set(_bridge hapsim_bridge ${_core} ${_dds} nlohmann_json::nlohmann_json)
+set(_wire hapsim_wire ${_core} hapsim_dds_types CycloneDDS::ddsc)
+set(_bridge hapsim_bridge ${_core} ${_dds} ${_wire} nlohmann_json::nlohmann_json)
 hapsim_layer_allows(hapsim_core Eigen3::Eigen)
 hapsim_layer_allows(hapsim_io ${_core})
 hapsim_layer_allows(hapsim_common spdlog::spdlog)
 hapsim_layer_allows(hapsim_dds_types CycloneDDS::ddsc)
 hapsim_layer_allows(hapsim_dds ${_dds})
 hapsim_layer_allows(hapsim_proto ${_proto})
+hapsim_layer_allows(hapsim_wire ${_wire})
 set(_service_extras tomlplusplus::tomlplusplus OpenSSL::Crypto prometheus-cpp::core)
-hapsim_layer_allows(hapsim_service hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
+hapsim_layer_allows(hapsim_service hapsim_service ${_core} ${_dds} ${_wire} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim_bridge ${_bridge})
 hapsim_layer_allows(hapsim_viewer ${_viewer})
-hapsim_layer_allows(hapsim-server hapsim_service ${_core} ${_dds} ${_proto} ${_service_extras})
+hapsim_layer_allows(hapsim-server hapsim_service ${_core} ${_dds} ${_wire} ${_proto} ${_service_extras})
 hapsim_layer_allows(hapsim-bridge ${_bridge})
 hapsim_layer_allows(hapsim-load ${_bridge} ${_viewer})
 if(HAPSIM_WITH_VIEWER_GUI)

@@ -5,26 +5,9 @@
 #include <string_view>
 
 #include "hapsim/common/clock.h"
+#include "hapsim/wire/topics_wire.h"
 
 namespace hapsim::bridge {
-
-core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m) {
-  core::LocalForceModel c;
-  c.state = m.state <= 3 ? static_cast<core::ContactState>(m.state) : core::ContactState::kFree;
-  c.anchor_W_m = {m.anchor_m[0], m.anchor_m[1], m.anchor_m[2]};
-  c.normal_W = {m.normal[0], m.normal[1], m.normal[2]};
-  c.stiffness_N_per_m = m.stiffness_n_per_m;
-  c.damping_Ns_per_m = m.damping_ns_per_m;
-  c.feedforward_W_N = {m.feedforward_n[0], m.feedforward_n[1], m.feedforward_n[2]};
-  c.drag_direction_W = {m.drag_direction[0], m.drag_direction[1], m.drag_direction[2]};
-  c.drag_N = m.drag_n;
-  c.drag_damping_Ns_per_m = m.drag_damping_ns_per_m;
-  c.stick_W_m = {m.stick_m[0], m.stick_m[1], m.stick_m[2]};
-  c.stick_stiffness_N_per_m = m.stick_stiffness_n_per_m;
-  c.tip_anchor_W_m = {m.tip_anchor_m[0], m.tip_anchor_m[1], m.tip_anchor_m[2]};
-  c.tip_stiffness_N_per_m = m.tip_stiffness_n_per_m;
-  return c;
-}
 
 ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
     : device_(device),
@@ -45,15 +28,12 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
   const std::uint64_t seq = next_seq_++;
   pose_.seq = seq;
   pose_.t_device_ns = sensed_ns_;
-  for (int k = 0; k < 3; ++k) {
-    pose_.pos_m[k] = r.tip_W_m[k];
-    pose_.vel_m_per_s[k] = r.velocity_W_m_per_s[k];
-  }
-  pose_.quat_wxyz[0] = r.orientation_W.w();
-  pose_.quat_wxyz[1] = r.orientation_W.x();
-  pose_.quat_wxyz[2] = r.orientation_W.y();
-  pose_.quat_wxyz[3] = r.orientation_W.z();
-  pose_.buttons = r.buttons;
+  core::ToolInput tool;
+  tool.tip_W_m = r.tip_W_m;
+  tool.orientation_W = r.orientation_W;
+  tool.velocity_W_m_per_s = r.velocity_W_m_per_s;
+  tool.buttons = r.buttons;
+  wire::PackPose(tool, &pose_);
   sent_seq_[seq % kSentRing] = seq;
   sent_ns_[seq % kSentRing] = sensed_ns_;
   return r;
@@ -81,7 +61,7 @@ void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo % kSentRing]) * 1e-9;
     round_trip_s_.Record(tick_.round_trip_s);
   }
-  local_ = ToCoreModel(model_.msg);
+  local_ = wire::UnpackForceModel(model_.msg);
   have_model_ = true;
 }
 

@@ -16,13 +16,14 @@ make_tree() {
   local t=$1
   mkdir -p "$t/cmake" "$t/server/core/src" "$t/server/io/src" "$t/server/common/src" "$t/server/dds/src" \
            "$t/server/service/src" "$t/device-bridge/include" "$t/device-bridge/src" "$t/device-bridge/backends" \
-           "$t/client-viewer/src"
+           "$t/client-viewer/src" "$t/wire/src"
   cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
   echo '#include <Eigen/Core>' >"$t/server/core/src/step.cpp"
   printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/server/core/src/assert.cpp"  # the one allowed writer
   echo '#include <fstream>' >"$t/server/io/src/reader.cpp"
   echo '#include <spdlog/spdlog.h>' >"$t/server/common/src/logging.cpp"
   echo '#include <dds/dds.h>' >"$t/server/dds/src/dds.cpp"
+  printf '#include "haptics.h"\n#include "hapsim/core/haptics/local_force_model.h"\n' >"$t/wire/src/topics_wire.cpp"
   echo '#include <grpcpp/grpcpp.h>' >"$t/server/service/src/service.cpp"
   echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/src/bridge.cpp"
   echo '#include <asio/signal_set.hpp>' >"$t/device-bridge/main.cpp"
@@ -37,7 +38,7 @@ foreach(ext Eigen3::Eigen spdlog::spdlog CycloneDDS::ddsc protobuf::libprotobuf 
   add_library(${ext} INTERFACE IMPORTED)
 endforeach()
 target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
-foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_proto hapsim_service
+foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto hapsim_service
           hapsim_bridge hapsim_viewer)
   add_library(${t} INTERFACE)
 endforeach()
@@ -53,8 +54,9 @@ link(hapsim_common spdlog::spdlog)
 link(hapsim_dds_types CycloneDDS::ddsc)
 link(hapsim_dds hapsim_common hapsim_dds_types)
 link(hapsim_proto protobuf::libprotobuf gRPC::grpc++)
-link(hapsim_service hapsim_core hapsim_common hapsim_dds hapsim_proto gRPC::grpc++)
-link(hapsim_bridge hapsim_core hapsim_common hapsim_dds)
+link(hapsim_wire hapsim_core hapsim_dds_types)
+link(hapsim_service hapsim_core hapsim_common hapsim_dds hapsim_wire hapsim_proto gRPC::grpc++)
+link(hapsim_bridge hapsim_core hapsim_common hapsim_dds hapsim_wire)
 link(hapsim_viewer hapsim_proto hapsim_common gRPC::grpc++ Eigen3::Eigen)
 include(${CMAKE_CURRENT_SOURCE_DIR}/probe.cmake OPTIONAL)  # the injected violation, if any
 include(HapsimLayerRules)
@@ -111,6 +113,12 @@ expect bridge_links_grpc fail "hapsim_bridge links gRPC::grpc" \
   sh -c 'echo "link(hapsim_bridge gRPC::grpc++)" >probe.cmake'
 expect dds_links_proto fail "hapsim_dds links hapsim_proto" \
   sh -c 'echo "link(hapsim_dds hapsim_proto)" >probe.cmake'
+expect wire_includes_dds_api fail "hapsim::wire may not include.*dds/dds.h" \
+  sh -c 'echo "#include <dds/dds.h>" >>wire/src/topics_wire.cpp'
+expect wire_includes_common fail "hapsim::wire may not include.*hapsim/common/" \
+  sh -c 'echo "#include \"hapsim/common/clock.h\"" >>wire/src/topics_wire.cpp'
+expect wire_links_common fail "hapsim_wire links hapsim_common" \
+  sh -c 'echo "link(hapsim_wire hapsim_common)" >probe.cmake'
 
 echo "$failures failed"
 [ $failures -eq 0 ]

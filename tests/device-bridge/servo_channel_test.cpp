@@ -2,16 +2,17 @@
 // for the echoed seq, and a stale model drives the watchdog's event counters.
 #include "hapsim/bridge/servo_channel.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "backends/synthetic_device.h"
 #include "hapsim/common/clock.h"
+#include "hapsim/wire/topics_wire.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -146,7 +147,7 @@ TEST_F(ServoChannelTest, AnUnknownContactStateIsReadAsFree) {
   ReceivedModel model = ContactModel(0, common::SteadyNowNs());
   model.msg.state = 7;
   model.msg.feedforward_n[0] = 0.02;
-  EXPECT_EQ(ToCoreModel(model.msg).state, core::ContactState::kFree);
+  EXPECT_EQ(wire::UnpackForceModel(model.msg).state, core::ContactState::kFree);
   channel_.Sense(0.0);
   inbox_.Publish(model);
   const ChannelTick& tick = channel_.Actuate(inbox_);

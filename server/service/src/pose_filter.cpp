@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "hapsim/wire/topics_wire.h"
+
 namespace hapsim::service {
 
 std::string_view ToString(PoseRejection r) {
@@ -49,12 +51,8 @@ std::optional<core::ToolInput> FilterPose(const hapsim_dds_StylusPose& pose, con
     *why = PoseRejection::kBadQuaternion;
     return std::nullopt;
   }
-  core::ToolInput tool;
-  tool.valid = true;
-  tool.tip_W_m = p;
-  tool.orientation_W = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized();
-  tool.velocity_W_m_per_s = v;
-  tool.buttons = pose.buttons;
+  core::ToolInput tool = wire::UnpackPose(pose);
+  tool.orientation_W.normalize();
   return tool;
 }
 

@@ -10,32 +10,19 @@
 #include "hapsim/dds/partition.h"
 #include "hapsim/dds/topics.h"
 #include "hapsim/service/pose_router.h"
+#include "hapsim/wire/topics_wire.h"
 
 namespace hapsim::service {
 
 namespace {
 
+// The header is this server's; the body goes through hapsim::wire.
 void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
   out.device_id = in.device_id;
   out.seq = in.seq;
   out.echo_pose_seq = in.echo_pose_seq;
   out.t_server_ns = in.t_server_ns;
-  out.state = static_cast<std::uint8_t>(in.model.state);
-  for (int i = 0; i < 3; ++i) {
-    out.anchor_m[i] = in.model.anchor_W_m[i];
-    out.normal[i] = in.model.normal_W[i];
-    out.feedforward_n[i] = in.model.feedforward_W_N[i];
-    out.tool_force_n[i] = in.tool_force_W_N[i];
-    out.drag_direction[i] = in.model.drag_direction_W[i];
-    out.stick_m[i] = in.model.stick_W_m[i];
-    out.tip_anchor_m[i] = in.model.tip_anchor_W_m[i];
-  }
-  out.tip_stiffness_n_per_m = in.model.tip_stiffness_N_per_m;
-  out.stick_stiffness_n_per_m = in.model.stick_stiffness_N_per_m;
-  out.drag_n = in.model.drag_N;
-  out.drag_damping_ns_per_m = in.model.drag_damping_Ns_per_m;
-  out.stiffness_n_per_m = in.model.stiffness_N_per_m;
-  out.damping_ns_per_m = in.model.damping_Ns_per_m;
+  wire::PackForceModel(in.model, in.tool_force_W_N, &out);
 }
 
 }  // namespace

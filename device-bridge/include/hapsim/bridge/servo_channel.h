@@ -26,8 +26,6 @@ struct ReceivedModel {
   std::int64_t received_ns = 0;  // this process's steady clock at arrival
 };
 
-core::LocalForceModel ToCoreModel(const hapsim_dds_LocalForceModel& m);
-
 struct ChannelConfig {
   std::uint32_t device_id = 1;
   std::string session = "demo";
