@@ -27,15 +27,15 @@ set(_net "grpc|grpcpp|dds/|ddsc|asio|spdlog|google/protobuf|boost/asio|haptics\\
 set(_std_os "(thread|mutex|shared_mutex|condition_variable|future|semaphore|stop_token|latch|barrier|chrono|ctime|fstream|iostream|istream|ostream|cstdio|stdio\\.h|filesystem)>")
 
 # Includes.
-hapsim_forbid_includes(hapsim::core TARGET hapsim_core DIRS ${PROJECT_SOURCE_DIR}/server/core
+hapsim_forbid_includes(hapsim::core TARGET hapsim_core DIRS ${PROJECT_SOURCE_DIR}/core
   PATTERN "${_net}|hapsim/(common|dds|io|service|bridge|viewer|v1)/|${_std_os}"
   ALLOW src/assert.cpp)  # the one line the core writes: a failed check, before abort()
-hapsim_forbid_includes(hapsim::io TARGET hapsim_io DIRS ${PROJECT_SOURCE_DIR}/server/io
+hapsim_forbid_includes(hapsim::io TARGET hapsim_io DIRS ${PROJECT_SOURCE_DIR}/io
   PATTERN "${_net}|hapsim/(common|dds|service|bridge|viewer|v1)/")
 if(NOT HAPSIM_CORE_ONLY)
-  hapsim_forbid_includes(hapsim::common TARGET hapsim_common DIRS ${PROJECT_SOURCE_DIR}/server/common
+  hapsim_forbid_includes(hapsim::common TARGET hapsim_common DIRS ${PROJECT_SOURCE_DIR}/common
     PATTERN "grpc|grpcpp|dds/|ddsc|google/protobuf|haptics\\.h|hapsim/(core|dds|io|service|bridge|viewer|v1)/")
-  hapsim_forbid_includes(hapsim::dds TARGET hapsim_dds DIRS ${PROJECT_SOURCE_DIR}/server/dds
+  hapsim_forbid_includes(hapsim::dds TARGET hapsim_dds DIRS ${PROJECT_SOURCE_DIR}/dds
     PATTERN "grpc|grpcpp|google/protobuf|asio|hapsim/(core|io|service|bridge|viewer|v1)/")
   hapsim_forbid_includes(hapsim::wire TARGET hapsim_wire DIRS ${PROJECT_SOURCE_DIR}/wire
     PATTERN "grpc|grpcpp|google/protobuf|asio|spdlog|dds/dds\\.h|hapsim/(common|dds|io|service|bridge|viewer|v1)/|${_std_os}")

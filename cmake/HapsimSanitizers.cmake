@@ -1,7 +1,7 @@
 # HAPSIM_SANITIZE="address;undefined" or "thread": applied to every target.
 # HAPSIM_FUZZ: every target is instrumented for libFuzzer plus ASan+UBSan
 # (except the core's physics, which drops libFuzzer's coverage callbacks:
-# server/core/CMakeLists.txt);
+# core/CMakeLists.txt);
 # the fuzz executables (tests/fuzz) link the fuzzer's main.
 if(HAPSIM_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")

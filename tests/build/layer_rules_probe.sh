@@ -14,15 +14,15 @@ failures=0
 # make_tree DIR: the stub tree — real rule files, one clean source per layer.
 make_tree() {
   local t=$1
-  mkdir -p "$t/cmake" "$t/server/core/src" "$t/server/io/src" "$t/server/common/src" "$t/server/dds/src" \
+  mkdir -p "$t/cmake" "$t/core/src" "$t/io/src" "$t/common/src" "$t/dds/src" \
            "$t/server/service/src" "$t/device-bridge/include" "$t/device-bridge/src" "$t/device-bridge/backends" \
            "$t/client-viewer/src" "$t/wire/src"
   cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
-  echo '#include <Eigen/Core>' >"$t/server/core/src/step.cpp"
-  printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/server/core/src/assert.cpp"  # the one allowed writer
-  echo '#include <fstream>' >"$t/server/io/src/reader.cpp"
-  echo '#include <spdlog/spdlog.h>' >"$t/server/common/src/logging.cpp"
-  echo '#include <dds/dds.h>' >"$t/server/dds/src/dds.cpp"
+  echo '#include <Eigen/Core>' >"$t/core/src/step.cpp"
+  printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/core/src/assert.cpp"  # the one allowed writer
+  echo '#include <fstream>' >"$t/io/src/reader.cpp"
+  echo '#include <spdlog/spdlog.h>' >"$t/common/src/logging.cpp"
+  echo '#include <dds/dds.h>' >"$t/dds/src/dds.cpp"
   printf '#include "haptics.h"\n#include "hapsim/core/haptics/local_force_model.h"\n' >"$t/wire/src/topics_wire.cpp"
   echo '#include <grpcpp/grpcpp.h>' >"$t/server/service/src/service.cpp"
   echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/src/bridge.cpp"
@@ -85,21 +85,21 @@ expect() {
 
 expect clean pass "" true
 expect core_includes_thread fail "hapsim::core may not include.*<thread>" \
-  sh -c 'echo "#include <thread>" >>server/core/src/step.cpp'
+  sh -c 'echo "#include <thread>" >>core/src/step.cpp'
 expect core_includes_fstream fail "hapsim::core may not include.*<fstream>" \
-  sh -c 'echo "#include <fstream>" >server/core/src/mesh_file.cpp'
+  sh -c 'echo "#include <fstream>" >core/src/mesh_file.cpp'
 expect core_includes_the_clock fail "hapsim::core may not include.*<chrono>" \
-  sh -c 'echo "#include <chrono>" >>server/core/src/step.cpp'
+  sh -c 'echo "#include <chrono>" >>core/src/step.cpp'
 expect core_includes_common fail "hapsim::core may not include.*hapsim/common/" \
-  sh -c 'echo "#include \"hapsim/common/clock.h\"" >>server/core/src/step.cpp'
+  sh -c 'echo "#include \"hapsim/common/clock.h\"" >>core/src/step.cpp'
 expect core_includes_dds fail "hapsim::core may not include.*dds/dds.h" \
-  sh -c 'echo "#include <dds/dds.h>" >>server/core/src/step.cpp'
+  sh -c 'echo "#include <dds/dds.h>" >>core/src/step.cpp'
 expect bridge_includes_grpc fail "hapsim::bridge may not include.*grpcpp" \
   sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/src/bridge.cpp'
 expect viewer_includes_service fail "hapsim::viewer may not include.*hapsim/service/" \
   sh -c 'echo "#include \"hapsim/service/session.h\"" >>client-viewer/src/client.cpp'
 expect common_includes_dds fail "hapsim::common may not include.*haptics" \
-  sh -c 'echo "#include \"haptics.h\"" >>server/common/src/logging.cpp'
+  sh -c 'echo "#include \"haptics.h\"" >>common/src/logging.cpp'
 expect core_links_common fail "hapsim_core links hapsim_common" \
   sh -c 'echo "link(hapsim_core hapsim_common)" >probe.cmake'
 expect viewer_links_service fail "hapsim_viewer links hapsim_service" \

@@ -8,7 +8,7 @@ Each constant is split into doubles whose sum carries far more than 53 bits:
     (reduction of exp/log);
   * atan(j/8), j = 1..8, and pi, pi/2 as the nearest double plus the nearest
     double to the rest.
-Run: /usr/bin/python3 server/core/src/math/derive_constants.py
+Run: /usr/bin/python3 core/src/math/derive_constants.py
 """
 from decimal import Decimal, getcontext
 from fractions import Fraction

@@ -7,7 +7,7 @@
 // GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA). These functions use only
 // IEEE-754 +, -, *, /, sqrt and exact scaling (ldexp, frexp), which round
 // identically everywhere; the core is built with -ffp-contract=off, so the
-// compiler cannot fuse them either. Anything in server/core that affects
+// compiler cannot fuse them either. Anything in core that affects
 // state calls these, never <cmath>'s transcendental functions.
 //
 // Accuracy (measured against x87 long-double references in
