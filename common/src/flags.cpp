@@ -65,17 +65,17 @@ Flags::Result Flags::Parse(int argc, char** argv, std::string* error, int* comma
     std::string arg = argv[i];
     if (arg == "--help" || arg == "-h") return Result::kHelp;
     if (arg == "--version") return Result::kVersion;
-    if (arg.rfind("--", 0) != 0 && command_at) {
-      *command_at = i;
-      return Result::kOk;
-    }
-    if (arg.rfind("--", 0) != 0 && positionals_) {
+    if (arg.rfind("--", 0) != 0) {  // not a flag: the command, a positional, or a mistake
+      if (command_at) {
+        *command_at = i;
+        return Result::kOk;
+      }
+      if (!positionals_) {
+        *error = "unexpected argument '" + arg + "' (flags start with --; see --help)";
+        return Result::kError;
+      }
       positionals_->push_back(arg);
       continue;
-    }
-    if (arg.rfind("--", 0) != 0) {
-      *error = "unexpected argument '" + arg + "' (flags start with --; see --help)";
-      return Result::kError;
     }
     std::string name = arg.substr(2), value;
     bool has_value = false;

@@ -6,7 +6,7 @@ from typing import Iterator, List, Optional, Sequence, Tuple
 import grpc
 
 from ._proto import session_pb2, session_pb2_grpc
-from .errors import from_rpc_error
+from .errors import ended_at_own_deadline, from_rpc_error
 from .frames import Event
 
 
@@ -72,8 +72,7 @@ def watch(stub: session_pb2_grpc.SessionServiceStub, class_name: str, metadata: 
             if max_updates is not None and updates >= max_updates:
                 return
     except grpc.RpcError as error:
-        if error.code() == grpc.StatusCode.DEADLINE_EXCEEDED and deadline is not None \
-                and time.monotonic() >= deadline - 0.05:
+        if ended_at_own_deadline(error, deadline):
             return
         raise from_rpc_error(error) from None
     finally:

@@ -1,4 +1,5 @@
 """Exceptions: one class per gRPC status the server documents (docs/protocol.md)."""
+import time
 from typing import Dict, Optional, Type
 
 import grpc
@@ -66,3 +67,10 @@ def from_rpc_error(error: grpc.RpcError) -> Error:
     code = error.code() if hasattr(error, "code") else None
     details = (error.details() if hasattr(error, "details") else None) or str(error)
     return _BY_CODE.get(code, Error)(code, details)
+
+
+def ended_at_own_deadline(error: grpc.RpcError, deadline: Optional[float]) -> bool:
+    """Whether a stream ended because the caller's own ``seconds`` ran out
+    (``deadline`` on time.monotonic()), which is the normal end, not an error."""
+    return (deadline is not None and error.code() == grpc.StatusCode.DEADLINE_EXCEEDED
+            and time.monotonic() >= deadline - 0.05)

@@ -15,7 +15,7 @@ import grpc
 import numpy as np
 
 from ._proto import viewer_pb2, viewer_pb2_grpc
-from .errors import ProtocolError, from_rpc_error
+from .errors import ProtocolError, ended_at_own_deadline, from_rpc_error
 from .mesh import FrameRefused, MeshCache
 
 # Refusals in a row (no frame applied in between) before giving up.
@@ -150,8 +150,7 @@ def subscribe(stub: viewer_pb2_grpc.ViewerServiceStub, session_id: str, metadata
                 if max_frames is not None and delivered >= max_frames:
                     return
         except grpc.RpcError as error:
-            if error.code() == grpc.StatusCode.DEADLINE_EXCEEDED and deadline is not None \
-                    and time.monotonic() >= deadline - 0.05:
+            if ended_at_own_deadline(error, deadline):
                 return
             raise from_rpc_error(error) from None
         finally:

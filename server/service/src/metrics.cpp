@@ -217,7 +217,8 @@ std::string FormatMetrics(const SessionRegistry& registry, const ServerDdsCounte
       {"hapsim_session_tick_lateness_seconds", "How long after it was due a tick started.",
        [](const Session& s) -> const TickHistogram& { return s.counters().tick_lateness; }},
       {"hapsim_session_pose_to_model_seconds",
-       "From a fresh pose's arrival to the force model of the tick it clocked written to DDS: the server's share "
+       "From a fresh pose's arrival to the force model of the tick it clocked stamped for DDS (t_server_ns, just "
+       "before the write): the server's share "
        "of the device's round trip.",
        [](const Session& s) -> const TickHistogram& { return s.counters().pose_to_model; }},
   };

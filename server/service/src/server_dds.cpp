@@ -144,6 +144,11 @@ void ServerDds::TakePublications() {
 
 void ServerDds::CheckForeignModelWriters() {
   if (!table_) return;
+  if (foreign_model_writers_.empty()) {  // the usual case: no other server, nothing to match
+    warned_.clear();
+    counters_.foreign_model_writers.store(0, std::memory_order_relaxed);
+    return;
+  }
   // A session closed and opened again against the same writer is warned again.
   std::erase_if(warned_, [&](const auto& pair) { return table_->find(pair.second) == table_->end(); });
   std::uint64_t count = 0;

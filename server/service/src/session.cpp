@@ -177,7 +177,7 @@ void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel
   // A refused write is counted by the port (ServerDds counters).
   if (port_->WriteForceModel(m)) {
     counters_.force_models_sent.fetch_add(1, std::memory_order_relaxed);
-    if (in.fresh_pose) counters_.pose_to_model.Observe_ns(common::SteadyNowNs() - last_pose_.received_ns);
+    if (in.fresh_pose) counters_.pose_to_model.Observe_ns(m.t_server_ns - last_pose_.received_ns);
   }
 }
 

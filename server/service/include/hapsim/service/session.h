@@ -85,7 +85,7 @@ struct SessionCounters {
   std::atomic<std::uint32_t> viewers{0};               // kept by the ViewerHub
   TickHistogram tick_work;                             // a tick's wall time up to the scene stepped
   TickHistogram tick_lateness;                         // how long after its due time a tick started
-  TickHistogram pose_to_model;                         // a fresh pose's arrival to its force model written
+  TickHistogram pose_to_model;                         // a fresh pose's arrival to its model's t_server_ns
 };
 
 class Session : public TickTask {
