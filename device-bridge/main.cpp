@@ -2,21 +2,21 @@
 // (synthetic or replay backends here; OpenHaptics when built with the SDK),
 // streams its pose over DDS, and renders the server's local force model,
 // clamped and watched by the staleness watchdog. Prints a summary at exit.
+#include <spdlog/spdlog.h>
+
 #include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <thread>
 
-#include <spdlog/spdlog.h>
-
 #include "backends/replay_device.h"
 #include "backends/synthetic_device.h"
 #include "hapsim/bridge/bridge_dds.h"
 #include "hapsim/bridge/device_flags.h"
-#include "hapsim/bridge/servo_loop.h"
 #include "hapsim/common/flags.h"
 #include "hapsim/common/session_id.h"
+#include "hapsim/servo/servo_loop.h"
 #include "stop_on_signal.h"
 
 namespace {

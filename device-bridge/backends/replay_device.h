@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "hapsim/bridge/device.h"
+#include "hapsim/servo/device.h"
 
 namespace hapsim::bridge {
 

@@ -21,7 +21,7 @@
 #include <random>
 #include <string>
 
-#include "hapsim/bridge/device.h"
+#include "hapsim/servo/device.h"
 
 namespace hapsim::bridge {
 

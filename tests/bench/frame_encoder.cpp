@@ -5,13 +5,14 @@
 // cutting cases: a frame carrying one cutting tick's topology edits (tens
 // of triangles) against a plain delta and a keyframe of the same mesh.
 //   build/bin/bench_frame_encoder --benchmark_min_time=0.2
-#include <random>
+#include "hapsim/streaming/frame_encoder.h"
 
 #include <benchmark/benchmark.h>
 
+#include <random>
+
 #include "hapsim/core/mesh/mesh_topology.h"
-#include "hapsim/service/frame_encoder.h"
-#include "hapsim/service/snapshot_ring.h"
+#include "hapsim/runtime/snapshot_ring.h"
 
 namespace {
 

@@ -4,13 +4,13 @@
 // thread scrapes the same histogram as fast as it can. A tick records three
 // observations (work, lateness, pose to model).
 //   build/bin/bench_frame_tick_histogram --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
-#include <atomic>
-#include <thread>
-
 #include <benchmark/benchmark.h>
 #include <prometheus/histogram.h>
 
-#include "hapsim/service/tick_histogram.h"
+#include <atomic>
+#include <thread>
+
+#include "hapsim/runtime/tick_histogram.h"
 
 namespace {
 

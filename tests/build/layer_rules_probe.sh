@@ -14,9 +14,11 @@ failures=0
 # make_tree DIR: the stub tree — real rule files, one clean source per layer.
 make_tree() {
   local t=$1
-  mkdir -p "$t/cmake" "$t/core/src" "$t/io/src" "$t/common/src" "$t/dds/src" \
-           "$t/server/service/src" "$t/device-bridge/include" "$t/device-bridge/src" "$t/device-bridge/backends" \
-           "$t/client-viewer/src" "$t/wire/src"
+  mkdir -p "$t/cmake" "$t/core/src" "$t/io/src" "$t/common/src" "$t/dds/src" "$t/wire/src" \
+           "$t/server/runtime/src" "$t/server/device_link/src" "$t/server/streaming/src" "$t/server/classroom/src" \
+           "$t/server/api/src" "$t/server/app/src" \
+           "$t/device-bridge/servo/src" "$t/device-bridge/backends" "$t/device-bridge/dds/src" \
+           "$t/device-bridge/load/src" "$t/client-viewer/src"
   cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
   echo '#include <Eigen/Core>' >"$t/core/src/step.cpp"
   printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/core/src/assert.cpp"  # the one allowed writer
@@ -24,8 +26,15 @@ make_tree() {
   echo '#include <spdlog/spdlog.h>' >"$t/common/src/logging.cpp"
   echo '#include <dds/dds.h>' >"$t/dds/src/dds.cpp"
   printf '#include "haptics.h"\n#include "hapsim/core/haptics/local_force_model.h"\n' >"$t/wire/src/topics_wire.cpp"
-  echo '#include <grpcpp/grpcpp.h>' >"$t/server/service/src/service.cpp"
-  echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/src/bridge.cpp"
+  printf '#include <mutex>\n#include "hapsim/core/scenes/scene.h"\n' >"$t/server/runtime/src/session.cpp"
+  printf '#include "hapsim/dds/dds.h"\n#include "hapsim/wire/topics_wire.h"\n' >"$t/server/device_link/src/server_dds.cpp"
+  echo '#include <grpcpp/grpcpp.h>' >"$t/server/streaming/src/viewer_link.cpp"
+  echo '#include <toml++/toml.hpp>' >"$t/server/classroom/src/class_config.cpp"
+  printf '#include <grpcpp/grpcpp.h>\n#include "hapsim/classroom/trial_book.h"\n' >"$t/server/api/src/session_service.cpp"
+  echo '#include "hapsim/api/session_service.h"' >"$t/server/app/src/server_app.cpp"
+  echo '#include "hapsim/core/haptics/local_force_model.h"' >"$t/device-bridge/servo/src/servo_channel.cpp"
+  echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/dds/src/device_dds.cpp"
+  echo '#include "hapsim/bridge/model_router.h"' >"$t/device-bridge/load/src/load_runner.cpp"
   echo '#include <asio/signal_set.hpp>' >"$t/device-bridge/main.cpp"
   echo '#include <grpcpp/grpcpp.h>' >"$t/client-viewer/src/client.cpp"
   cat >"$t/CMakeLists.txt" <<'CMAKE'
@@ -38,8 +47,9 @@ foreach(ext Eigen3::Eigen spdlog::spdlog CycloneDDS::ddsc protobuf::libprotobuf 
   add_library(${ext} INTERFACE IMPORTED)
 endforeach()
 target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
-foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto hapsim_service
-          hapsim_bridge hapsim_viewer)
+foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto
+          hapsim_runtime hapsim_device_link hapsim_streaming hapsim_classroom hapsim_api hapsim_app
+          hapsim_servo hapsim_bridge hapsim_load hapsim_viewer)
   add_library(${t} INTERFACE)
 endforeach()
 foreach(t hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate)
@@ -55,8 +65,15 @@ link(hapsim_dds_types CycloneDDS::ddsc)
 link(hapsim_dds hapsim_common hapsim_dds_types)
 link(hapsim_proto protobuf::libprotobuf gRPC::grpc++)
 link(hapsim_wire hapsim_core hapsim_dds_types)
-link(hapsim_service hapsim_core hapsim_common hapsim_dds hapsim_wire hapsim_proto gRPC::grpc++)
-link(hapsim_bridge hapsim_core hapsim_common hapsim_dds hapsim_wire)
+link(hapsim_runtime hapsim_core hapsim_common)
+link(hapsim_device_link hapsim_runtime hapsim_dds hapsim_wire)
+link(hapsim_streaming hapsim_runtime hapsim_proto gRPC::grpc++)
+link(hapsim_classroom hapsim_runtime hapsim_proto)
+link(hapsim_api hapsim_device_link hapsim_streaming hapsim_classroom)
+link(hapsim_app hapsim_api)
+link(hapsim_servo hapsim_core hapsim_common)
+link(hapsim_bridge hapsim_servo hapsim_dds hapsim_wire)
+link(hapsim_load hapsim_bridge)
 link(hapsim_viewer hapsim_proto hapsim_common gRPC::grpc++ Eigen3::Eigen)
 include(${CMAKE_CURRENT_SOURCE_DIR}/probe.cmake OPTIONAL)  # the injected violation, if any
 include(HapsimLayerRules)
@@ -95,15 +112,15 @@ expect core_includes_common fail "hapsim::core may not include.*hapsim/common/" 
 expect core_includes_dds fail "hapsim::core may not include.*dds/dds.h" \
   sh -c 'echo "#include <dds/dds.h>" >>core/src/step.cpp'
 expect bridge_includes_grpc fail "hapsim::bridge may not include.*grpcpp" \
-  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/src/bridge.cpp'
-expect viewer_includes_service fail "hapsim::viewer may not include.*hapsim/service/" \
-  sh -c 'echo "#include \"hapsim/service/session.h\"" >>client-viewer/src/client.cpp'
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/dds/src/device_dds.cpp'
+expect viewer_includes_server fail "hapsim::viewer may not include.*hapsim/runtime/" \
+  sh -c 'echo "#include \"hapsim/runtime/session.h\"" >>client-viewer/src/client.cpp'
 expect common_includes_dds fail "hapsim::common may not include.*haptics" \
   sh -c 'echo "#include \"haptics.h\"" >>common/src/logging.cpp'
 expect core_links_common fail "hapsim_core links hapsim_common" \
   sh -c 'echo "link(hapsim_core hapsim_common)" >probe.cmake'
-expect viewer_links_service fail "hapsim_viewer links hapsim_service" \
-  sh -c 'echo "link(hapsim_viewer hapsim_service)" >probe.cmake'
+expect viewer_links_server fail "hapsim_viewer links hapsim_(app|api|runtime)" \
+  sh -c 'echo "link(hapsim_viewer hapsim_app)" >probe.cmake'
 expect viewer_links_core_through_another fail "hapsim-viewer links hapsim_(io|core)" \
   sh -c 'echo "add_library(viewer_helper INTERFACE)
 link(viewer_helper hapsim_io)
@@ -119,6 +136,42 @@ expect wire_includes_common fail "hapsim::wire may not include.*hapsim/common/" 
   sh -c 'echo "#include \"hapsim/common/clock.h\"" >>wire/src/topics_wire.cpp'
 expect wire_links_common fail "hapsim_wire links hapsim_common" \
   sh -c 'echo "link(hapsim_wire hapsim_common)" >probe.cmake'
+
+# The server's layers and the device side's.
+expect runtime_includes_grpc fail "hapsim::runtime may not include.*grpcpp" \
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>server/runtime/src/session.cpp'
+expect runtime_includes_dds fail "hapsim::runtime may not include.*hapsim/dds/" \
+  sh -c 'echo "#include \"hapsim/dds/dds.h\"" >>server/runtime/src/session.cpp'
+expect runtime_includes_classroom fail "hapsim::runtime may not include.*hapsim/classroom/" \
+  sh -c 'echo "#include \"hapsim/classroom/trial_tracker.h\"" >>server/runtime/src/session.cpp'
+expect runtime_links_dds fail "hapsim_runtime links hapsim_dds" \
+  sh -c 'echo "link(hapsim_runtime hapsim_dds)" >probe.cmake'
+expect device_link_includes_grpc fail "hapsim::device_link may not include.*grpcpp" \
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>server/device_link/src/server_dds.cpp'
+expect device_link_links_proto fail "hapsim_device_link links hapsim_proto" \
+  sh -c 'echo "link(hapsim_device_link hapsim_proto)" >probe.cmake'
+expect streaming_includes_dds fail "hapsim::streaming may not include.*dds/dds.h" \
+  sh -c 'echo "#include <dds/dds.h>" >>server/streaming/src/viewer_link.cpp'
+expect streaming_links_dds fail "hapsim_streaming links hapsim_dds" \
+  sh -c 'echo "link(hapsim_streaming hapsim_dds)" >probe.cmake'
+expect classroom_includes_grpc fail "hapsim::classroom may not include.*grpcpp" \
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>server/classroom/src/class_config.cpp'
+expect classroom_includes_streaming fail "hapsim::classroom may not include.*hapsim/streaming/" \
+  sh -c 'echo "#include \"hapsim/streaming/viewer_hub.h\"" >>server/classroom/src/class_config.cpp'
+expect api_includes_wire_types fail "hapsim::api may not include.*haptics" \
+  sh -c 'echo "#include \"haptics.h\"" >>server/api/src/session_service.cpp'
+expect api_includes_app fail "hapsim::api may not include.*hapsim/app/" \
+  sh -c 'echo "#include \"hapsim/app/server_app.h\"" >>server/api/src/session_service.cpp'
+expect servo_includes_dds fail "hapsim::servo may not include.*hapsim/dds/" \
+  sh -c 'echo "#include \"hapsim/dds/dds.h\"" >>device-bridge/servo/src/servo_channel.cpp'
+expect servo_includes_wire_types fail "hapsim::servo may not include.*haptics" \
+  sh -c 'echo "#include \"haptics.h\"" >>device-bridge/servo/src/servo_channel.cpp'
+expect servo_links_dds fail "hapsim_servo links hapsim_dds" \
+  sh -c 'echo "link(hapsim_servo hapsim_dds)" >probe.cmake'
+expect load_includes_grpc fail "hapsim::load may not include.*grpcpp" \
+  sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/load/src/load_runner.cpp'
+expect load_links_grpc fail "hapsim_load links gRPC::grpc" \
+  sh -c 'echo "link(hapsim_load gRPC::grpc++)" >probe.cmake'
 
 echo "$failures failed"
 [ $failures -eq 0 ]

@@ -15,8 +15,8 @@
 #include <gtest/gtest.h>
 
 #include "hapsim/core/mesh/mesh_topology.h"
-#include "hapsim/service/frame_encoder.h"
-#include "hapsim/service/snapshot_ring.h"
+#include "hapsim/streaming/frame_encoder.h"
+#include "hapsim/runtime/snapshot_ring.h"
 #include "hapsim/viewer/mesh_cache.h"
 
 namespace hapsim {

@@ -17,8 +17,7 @@
 #include <vector>
 
 #include "grid_session.h"
-
-#include "hapsim/service/frame_encoder.h"
+#include "hapsim/streaming/frame_encoder.h"
 #include "hapsim/viewer/mesh_cache.h"
 
 namespace {

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "hapsim/service/pose_filter.h"
+#include "hapsim/device_link/pose_filter.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   hapsim_dds_StylusPose pose;

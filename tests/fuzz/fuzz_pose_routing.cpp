@@ -6,6 +6,8 @@
 // exactly once (rejected, wrong session, other device, stale or accepted),
 // the session counts as received exactly the accepted ones, and a batch with
 // an accepted pose says so (the caller would wake the session).
+#include <spdlog/spdlog.h>
+
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -14,12 +16,9 @@
 #include <string>
 #include <vector>
 
-#include <spdlog/spdlog.h>
-
 #include "fuzz_setup.h"
-
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/service/pose_router.h"
+#include "hapsim/device_link/pose_router.h"
 
 namespace {
 
@@ -93,11 +92,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   service::Session& session = TheSession();
   const std::uint64_t before = Total(counters), accepted_before = counters.poses_accepted.load();
-  const std::uint64_t received_before = session.counters().poses_received.load();
+  const std::uint64_t received_before = session.counters().poses.received.load();
   const bool offered = service::RoutePoseBatch(session, batch, service::PoseLimits{}, now_ns, &counters, &warnings);
   const std::uint64_t accepted = counters.poses_accepted.load() - accepted_before;
   if (Total(counters) - before != batch.size()) std::abort();                             // each counted once
-  if (session.counters().poses_received.load() - received_before != accepted) std::abort();  // the session agrees
+  if (session.counters().poses.received.load() - received_before != accepted) std::abort();  // the session agrees
   if (offered != (accepted > 0)) std::abort();
   return 0;
 }

@@ -7,22 +7,22 @@
 // answers OK with at most max_sessions sessions) — a client's mistake never
 // takes it down. Sessions are closed after each input, so inputs do not
 // depend on each other. No DDS: a null transport stands for it.
+#include <grpcpp/server_context.h>
+#include <spdlog/spdlog.h>
+
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <string>
 
-#include <grpcpp/server_context.h>
-#include <spdlog/spdlog.h>
-
 #include "fuzz_setup.h"
-
-#include "hapsim/service/score_book.h"
-#include "hapsim/service/session_registry.h"
-#include "hapsim/service/session_service.h"
-#include "hapsim/service/tick_pool.h"
-#include "hapsim/service/viewer_hub.h"
+#include "hapsim/api/session_service.h"
+#include "hapsim/classroom/score_book.h"
+#include "hapsim/classroom/session_trials.h"
+#include "hapsim/runtime/session_registry.h"
+#include "hapsim/runtime/tick_pool.h"
+#include "hapsim/streaming/viewer_hub.h"
 
 namespace {
 
@@ -43,7 +43,8 @@ struct Server {
   service::TickPool pool{1};
   NullTransport transport;
   service::ViewerHub hub;
-  service::SessionRegistry registry{service::SessionDefaults{.max_sessions = kMaxSessions}, &pool, &transport, &hub};
+  service::SessionRegistry registry{service::SessionDefaults{.max_sessions = kMaxSessions}, &pool, &transport, &hub,
+                                    service::FollowTrials(nullptr)};
   service::ScoreBook scores;
   service::TrialBook trials;
   service::SessionServiceImpl api{&registry, &hub, &scores, nullptr, 0, &trials};

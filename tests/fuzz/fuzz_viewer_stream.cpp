@@ -31,9 +31,8 @@
 
 #include "fuzz_setup.h"
 #include "grid_session.h"
-
-#include "hapsim/service/viewer_link.h"
-#include "hapsim/service/viewer_service.h"
+#include "hapsim/api/viewer_service.h"
+#include "hapsim/streaming/viewer_link.h"
 #include "hapsim/viewer/mesh_cache.h"
 
 namespace {

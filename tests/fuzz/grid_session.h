@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "hapsim/core/mesh/mesh_topology.h"
-#include "hapsim/service/snapshot_ring.h"
-#include "hapsim/service/topology_history.h"
+#include "hapsim/runtime/snapshot_ring.h"
+#include "hapsim/streaming/topology_history.h"
 
 namespace hapsim::fuzz {
 

@@ -14,7 +14,9 @@ jobs=$(nproc 2>/dev/null || echo 2)
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHAPSIM_FUZZ=ON \
     -DHAPSIM_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target hapsim-core-tests hapsim-io-tests hapsim-common-tests \
-    hapsim-dds-tests hapsim-wire-tests hapsim-service-tests hapsim-bridge-tests hapsim-viewer-tests
+    hapsim-dds-tests hapsim-wire-tests \
+    hapsim-runtime-tests hapsim-device-link-tests hapsim-streaming-tests hapsim-classroom-tests hapsim-api-tests \
+    hapsim-servo-tests hapsim-bridge-tests hapsim-load-tests hapsim-viewer-tests
 # alloc_dealloc_mismatch=0: Debian's libgrpc 1.51 itself allocates with
 # operator new(nothrow) and releases with free() in ChannelInit::Builder::Build
 # (grpc_server_create); ASan stops every gRPC server test there otherwise.
@@ -34,5 +36,5 @@ cd "$build"
 # vessels or press 2 mm deep (1-4 min each here) are left out too.
 slow='Meshless\.UniaxialTension|SceneContract\..*vessel|EveryScene\..*vessel|SceneParams\..*vessel'
 slow+='|VesselScene\.(EveryShapeBuilds|PressedTwoMillimetres|ALateTicksJump|TheDeviceIsAsStiff|ALightTouch|PressedPastTheFlattenedVein|LetGoAtOnce)'
-ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|wire|service|device-bridge|client-viewer)$' \
+ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|wire|server/.*|device-bridge/.*|client-viewer)$' \
     -E "$slow"

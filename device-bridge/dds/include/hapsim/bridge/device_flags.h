@@ -1,0 +1,46 @@
+// Command-line flags that hapsim-bridge and hapsim-load share: the synthetic
+// script of a device and its force-safety chain, in the units a person types
+// (mm, ms), converted to the SI structs in one place; DDS and logging; and
+// the parse-then-set-up-logging step of main().
+#pragma once
+#include <string>
+
+#include "backends/synthetic_device.h"
+#include "hapsim/common/flags.h"
+#include "hapsim/dds/dds.h"
+#include "hapsim/servo/force_safety.h"
+
+namespace hapsim::bridge {
+
+struct ScriptFlags {
+  std::string kind = "insertion";
+  double depth_mm = 5.0, speed_mm_s = 10.0, start_height_mm = 10.0, hold_s = 0.5;
+  double entry_x_mm = 0.0, entry_y_mm = 0.0;
+  double cut_length_mm = 20.0, cut_angle_deg = 0.0, cut_bend_deg = 0.0, blade_tilt_deg = 30.0;
+  int seed = 1;
+  SyntheticScript ToScript() const;
+};
+void AddScriptFlags(common::Flags& flags, ScriptFlags* script, const std::string& seed_help);
+
+struct SafetyFlags {
+  double max_force_N = 2.5, max_rise_N_per_s = 50.0;
+  double warn_ms = 20.0, fade_ms = 50.0, disarm_ms = 100.0;
+  SafetyConfig ToConfig() const;  // throws std::invalid_argument when the limits are not ordered/positive
+};
+void AddSafetyFlags(common::Flags& flags, SafetyFlags* safety);
+
+struct ProcessFlags {
+  int dds_domain = 0;
+  std::string dds_config;  // empty: CYCLONEDDS_URI if set, else the built-in loopback config
+  std::string log_level = "info";
+  dds::Options Dds() const { return {static_cast<std::uint32_t>(dds_domain), dds_config}; }
+};
+void AddProcessFlags(common::Flags& flags, ProcessFlags* process);
+
+// Parses argv into flags, checks the DDS domain and sets up logging under
+// log_name. Returns -1 to go on; otherwise main() returns the value: 0 after
+// printing --help, 2 after printing what was wrong as "<program>: ...".
+int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
+                     const char* log_name);
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,194 @@
+// hapsim-load: the load generator. N synthetic devices in one process (one
+// DDS participant, one servo thread stepping all of them at the servo rate,
+// each with its own safety chain) drive N sessions of a hapsim-server, which
+// it can create and close itself. Prints a per-device table at exit and
+// writes JSON/CSV summaries for scripts (the capacity benchmark).
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "backends/synthetic_device.h"
+#include "hapsim/bridge/device_dds.h"
+#include "hapsim/bridge/device_flags.h"
+#include "hapsim/common/flags.h"
+#include "hapsim/load/load_plan.h"
+#include "hapsim/load/load_report_format.h"
+#include "hapsim/load/load_runner.h"
+#include "load_sessions.h"
+#include "stop_on_signal.h"
+
+namespace {
+
+constexpr const char* kSummary =
+    "Load generator of hapsim: N synthetic haptic devices in one process, one DDS participant and one\n"
+    "servo thread stepping all of them at the servo rate (absolute deadlines). Device i has id\n"
+    "--first-device-id + i and drives session <--session-prefix><i> (or the i-th of --sessions); it runs\n"
+    "the common --script with seed --seed + i, read at a phase offset i * --phase-spread-s / N. Each\n"
+    "device renders its force models through its own safety chain (clamp, rise limit, watchdog), as\n"
+    "hapsim-bridge does. With --create SCENE it creates those sessions through the server's\n"
+    "SessionService first (and closes them at exit unless --keep-sessions).\n\n"
+    "Reports per device and in total: pose rate, models received, echoed pose seq first/last and\n"
+    "regressions, round trip and model age p50/p99/max, watchdog warnings/fades/disarms (events),\n"
+    "force clamps (ticks); the servo thread's own lateness; with --create or --server-stats, the server's\n"
+    "counters of each session (late_ticks, device-clocked ticks, ...). A table on stdout at exit;\n"
+    "--json/--csv write summaries. SIGINT/SIGTERM stop the run cleanly (the report is still written).\n"
+    "Exit: 0 done, 1 runtime error (a session could not be created, a file not written), 2 bad flags.";
+
+// Closes the sessions hapsim-load created when main() leaves, however it leaves.
+struct CloseSessionsAtExit {
+  hapsim::viewer::SessionClient* client = nullptr;
+  std::vector<std::string> ids;
+  ~CloseSessionsAtExit() {
+    if (!client || ids.empty()) return;
+    const std::string errors = hapsim::bridge::CloseSessions(*client, ids);
+    if (errors.empty()) {
+      spdlog::info("closed {} sessions", ids.size());
+    } else {
+      std::fprintf(stderr, "hapsim-load: cannot close sessions:\n%s\n", errors.c_str());
+    }
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hapsim::bridge::LoadPlanOptions plan_options;
+  std::string sessions, create_scene, params, json_file, csv_file, intervals_csv_file;
+  hapsim::viewer::Connection connection;
+  hapsim::viewer::ConnectionFlags connection_flags;
+  int devices = plan_options.devices, first_device_id = static_cast<int>(plan_options.first_device_id);
+  double seconds = 0.0, rate_hz = 1000.0, interval_s = 0.0;
+  bool keep_sessions = false, server_stats = false;
+  hapsim::bridge::ScriptFlags script;
+  hapsim::bridge::SafetyFlags safety;
+  hapsim::bridge::ProcessFlags process;
+
+  hapsim::common::Flags flags("hapsim-load", kSummary);
+  flags.Add("devices", &devices, "number of synthetic devices (one session each)");
+  flags.Add("session-prefix", &plan_options.session_prefix, "device i drives session <prefix><i>");
+  flags.Add("sessions", &sessions, "explicit session ids a,b,c (one device each; overrides --devices/--session-prefix)");
+  flags.Add("first-device-id", &first_device_id, "device id of device 0 (device i: this + i)");
+  hapsim::bridge::AddScriptFlags(flags, &script, "base seed of the random_walk script (device i: seed + i)");
+  flags.Add("phase-spread-s", &plan_options.phase_spread_s,
+            "device i reads its script at t + i * spread / N [s] (0: all in lockstep)");
+  flags.Add("seconds", &seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
+  flags.Add("rate-hz", &rate_hz, "servo rate of every device [Hz]");
+  hapsim::bridge::AddSafetyFlags(flags, &safety);
+  flags.Add("create", &create_scene, "create the sessions with this scene before starting (see hapsim-ctl scenes)");
+  flags.Add("params", &params, "with --create: scene parameters k=v,k=v (SI, as hapsim-ctl create --param)");
+  flags.Add("keep-sessions", &keep_sessions, "with --create: leave the sessions open at exit");
+  flags.Add("server-stats", &server_stats, "read the server's session counters after the run even without --create");
+  flags.Add("server", &connection.address, "gRPC address of the hapsim-server (for --create and --server-stats)");
+  hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
+  flags.Add("json", &json_file, "write the summary as JSON here");
+  flags.Add("csv", &csv_file, "write the per-device summary as CSV here (last row: total)");
+  flags.Add("interval-s", &interval_s,
+            "also report round trip and model age per interval of this length [s] (0: off; in --json and --intervals-csv)");
+  flags.Add("intervals-csv", &intervals_csv_file, "with --interval-s: write one CSV row per interval here");
+  hapsim::bridge::AddProcessFlags(flags, &process);
+  const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-load", "load");
+  if (parse_exit >= 0) return parse_exit;
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
+      {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
+      {first_device_id >= 0, "--first-device-id", ">= 0"},
+      {interval_s == 0.0 || (interval_s >= 0.1 && interval_s <= hapsim::common::kMaxFlagSeconds), "--interval-s",
+       "0 (off) or [0.1, 1e7]"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-load: %s\n", out_of_range.c_str());
+    return 2;
+  }
+  if (!intervals_csv_file.empty() && interval_s == 0.0) {
+    std::fprintf(stderr, "hapsim-load: --intervals-csv needs --interval-s (the length of an interval)\n");
+    return 2;
+  }
+  if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+    std::fprintf(stderr, "hapsim-load: %s\n", error.c_str());
+    return 2;
+  }
+  if (const std::string bad = hapsim::bridge::CheckSceneParams(params); !bad.empty()) {
+    std::fprintf(stderr, "hapsim-load: %s\n", bad.c_str());
+    return 2;
+  }
+
+  std::vector<hapsim::bridge::LoadDevicePlan> plan;
+  hapsim::bridge::LoadRunConfig run_config;
+  try {
+    plan_options.devices = devices;
+    plan_options.sessions = hapsim::bridge::SplitCommaList(sessions);
+    plan_options.first_device_id = static_cast<std::uint32_t>(first_device_id);
+    plan_options.script = script.ToScript();
+    hapsim::bridge::ValidateSyntheticScript(plan_options.script);
+    plan = hapsim::bridge::PlanDevices(plan_options);
+    run_config.safety = safety.ToConfig();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-load: %s\n", e.what());
+    return 2;
+  }
+  run_config.rate_hz = rate_hz;
+  run_config.run_seconds = seconds;
+  run_config.interval_s = interval_s;
+
+  std::vector<std::string> session_ids;
+  for (const auto& d : plan) session_ids.push_back(d.session);
+  try {
+    hapsim::viewer::SessionClient client(connection);  // throws on unreadable TLS files
+    CloseSessionsAtExit close_at_exit;                 // declared after the client: runs first
+    hapsim::bridge::ModelRouter router(plan.front().device_id, session_ids);
+    hapsim::bridge::DeviceDds dds(process.Dds(), &router);
+    hapsim::bridge::LoadRunner runner(plan, run_config, &router,
+                                      [&dds](const hapsim::bridge::SensedPose& pose) { return dds.WritePose(pose); });
+    spdlog::info("DDS domain {} with config: {}", process.dds_domain, dds.config_origin());
+
+    if (!create_scene.empty()) {
+      std::vector<std::string> created;
+      const std::string create_error = hapsim::bridge::CreateSessions(client, plan, {create_scene, params}, &created);
+      if (!create_error.empty()) {
+        std::fprintf(stderr, "hapsim-load: cannot create sessions at %s: %s\n", connection.address.c_str(), create_error.c_str());
+        return 1;
+      }
+      spdlog::info("created {} sessions of {} at {}", created.size(), create_scene, connection.address);
+      if (!keep_sessions) {
+        close_at_exit.client = &client;
+        close_at_exit.ids = created;
+      }
+    }
+
+    dds.Start();
+    std::atomic<bool> stop{false};
+    hapsim::bridge::LoadReport report;
+    {
+      hapsim::bridge::StopOnSignal stop_on_signal(&stop);
+      spdlog::info("{} devices (ids {}..{}), script {}, at {} Hz", plan.size(), plan.front().device_id,
+                   plan.back().device_id, script.kind, rate_hz);
+      report = runner.Run(stop);
+    }
+    dds.Stop();
+    if (!create_scene.empty() || server_stats) report.server = hapsim::bridge::FetchServerStats(client, plan);
+
+    std::fputs(hapsim::bridge::FormatLoadTable(report).c_str(), stdout);
+    std::fflush(stdout);
+    int rc = 0;
+    if (!json_file.empty() && !hapsim::bridge::WriteTextFile(json_file, hapsim::bridge::FormatLoadJson(report))) {
+      std::fprintf(stderr, "hapsim-load: cannot write %s\n", json_file.c_str());
+      rc = 1;
+    }
+    if (!csv_file.empty() && !hapsim::bridge::WriteTextFile(csv_file, hapsim::bridge::FormatLoadCsv(report))) {
+      std::fprintf(stderr, "hapsim-load: cannot write %s\n", csv_file.c_str());
+      rc = 1;
+    }
+    if (!intervals_csv_file.empty() &&
+        !hapsim::bridge::WriteTextFile(intervals_csv_file, hapsim::bridge::FormatLoadIntervalsCsv(report))) {
+      std::fprintf(stderr, "hapsim-load: cannot write %s\n", intervals_csv_file.c_str());
+      rc = 1;
+    }
+    return rc;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-load: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,110 @@
+// One device's share of a servo tick. The bridge's ServoLoop steps one
+// channel; hapsim-load steps many on one thread. A tick is two calls:
+//  Sense    read the device, fill the StylusPose for this tick and remember
+//           its send time by seq (to turn an echoed seq into a round trip);
+//  Actuate  take the newest force model from the device's inbox, record
+//           round trip and model age, evaluate the local force model, pass
+//           it through this device's ForceSafety and command the device.
+// The caller sends pose() in between. Nothing allocates after construction.
+// The servo sees core types only: the DDS side packs the pose it senses
+// and has unpacked every model before it reaches the inbox (hapsim::wire).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "hapsim/common/latest_value.h"
+#include "hapsim/common/stats.h"
+#include "hapsim/core/haptics/local_force_model.h"
+#include "hapsim/core/scenes/scene.h"  // ToolInput
+#include "hapsim/servo/device.h"
+#include "hapsim/servo/force_safety.h"
+
+namespace hapsim::bridge {
+
+// A force model as a DDS receive thread took it, unpacked.
+struct ReceivedModel {
+  core::LocalForceModel model;        // what to render until the next one
+  std::uint64_t seq = 0;              // the server's, +1 per model of the session
+  std::uint64_t echo_pose_seq = 0;    // seq of the pose the server stepped with
+  std::uint64_t server_instance = 0;  // which server sent it
+  std::int64_t received_ns = 0;       // this process's steady clock at arrival
+};
+
+// A pose as one servo tick sensed it, for the DDS side to send.
+struct SensedPose {
+  core::ToolInput tool;
+  std::uint32_t device_id = 0;
+  std::uint64_t seq = 0;         // +1 per tick of this device
+  std::int64_t t_device_ns = 0;  // this process's steady clock when sensed
+};
+
+struct ChannelConfig {
+  std::uint32_t device_id = 1;
+  double period_s = 0.001;             // servo period (the rise limit's dt)
+  SafetyConfig safety;
+  std::size_t stats_window = 1 << 17;  // recent samples kept for round-trip / model-age percentiles
+};
+
+// What the last tick did, for the caller's trace and pooled statistics.
+struct ChannelTick {
+  DeviceReading reading;
+  Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();  // from the local model (before safety)
+  Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
+  double model_age_s = -1.0;   // age of the model used; -1: none yet
+  double round_trip_s = -1.0;  // this tick's new model echoes a remembered pose: its round trip; else -1
+};
+
+struct ChannelCounters {
+  std::uint64_t ticks = 0;             // completed Actuate calls
+  std::uint64_t models_taken = 0;      // new models found in the inbox and applied (older ones are overwritten unseen)
+  std::uint64_t echo_regressions = 0;  // models echoing an older pose than the one held: discarded (reordered)
+  std::uint64_t first_echo_seq = 0, last_echo_seq = 0;  // valid when models_taken > 0
+  double peak_force_N = 0.0;            // commanded
+  double peak_force_pressing_N = 0.0;   // script phases press/hold
+  double peak_force_withdrawn_N = 0.0;  // tip more than 1 mm above the surface after withdrawing
+};
+
+class ServoChannel {
+ public:
+  ServoChannel(HapticDevice* device, const ChannelConfig& config);
+
+  // t_s: the device's time since its start (scripts and replays follow it).
+  const DeviceReading& Sense(double t_s);
+  const SensedPose& pose() const { return pose_; }
+  const ChannelTick& Actuate(common::LatestValue<ReceivedModel>& inbox);
+
+  const ChannelTick& last_tick() const { return tick_; }
+  const ChannelCounters& counters() const { return counters_; }
+  const SafetyCounters& safety_counters() const { return safety_.counters(); }
+  WatchdogState watchdog() const { return safety_.state(); }
+  core::ContactState model_state() const { return have_model_ ? model_.model.state : core::ContactState::kFree; }
+  std::uint32_t device_id() const { return pose_.device_id; }
+  common::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
+  common::Percentiles ModelAge() const { return model_age_s_.Summary(); }
+
+ private:
+  void TakeNewestModel(common::LatestValue<ReceivedModel>& inbox);
+  void RecordPeaks();
+
+  // Send time of each pose by seq; a model echoing a seq older than the ring
+  // gets no round trip.
+  static constexpr std::size_t kSentRing = 4096;
+
+  HapticDevice* device_;
+  double period_s_;
+  ForceSafety safety_;
+  std::int64_t warn_age_ns_;  // a held model younger than this is fresh: older arrivals are discarded
+  SensedPose pose_;
+  std::uint64_t next_seq_ = 0;
+  std::int64_t sensed_ns_ = 0;
+  std::array<std::uint64_t, kSentRing> sent_seq_;
+  std::array<std::int64_t, kSentRing> sent_ns_{};
+  bool have_model_ = false;
+  ReceivedModel model_;
+  ChannelTick tick_;
+  ChannelCounters counters_;
+  common::SampleWindow round_trip_s_, model_age_s_;
+};
+
+}  // namespace hapsim::bridge

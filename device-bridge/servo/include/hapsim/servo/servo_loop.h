@@ -1,0 +1,72 @@
+// The bridge's 1 kHz servo loop: one ServoChannel (read the device, evaluate
+// the newest local force model, ForceSafety, command the device) on a
+// DeadlineTicker, handing each pose to the DDS thread. No DDS call, lock,
+// allocation or I/O happens inside a tick: poses and models cross through
+// latest-value mailboxes, and the trace is a buffer reserved before the loop
+// starts and written after it ends.
+#pragma once
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hapsim/servo/servo_channel.h"
+
+namespace hapsim::bridge {
+
+struct ServoConfig {
+  std::uint32_t device_id = 1;
+  std::string session = "demo";
+  double rate_hz = 1000.0;
+  double run_seconds = 0.0;        // 0: until stop is set
+  SafetyConfig safety;
+  std::size_t trace_capacity = 0;  // rows of trace to keep (0: none)
+  bool stop_when_script_finishes = true;
+};
+
+struct TraceRow {
+  double t_s;
+  Eigen::Vector3d tip_W_m;
+  Eigen::Quaterniond orientation_W;
+  Eigen::Vector3d force_W_N;      // commanded (after safety)
+  Eigen::Vector3d requested_W_N;  // from the local model (before safety)
+  double model_age_ms;            // -1: no model yet
+  std::uint64_t echo_pose_seq;
+  const char* phase;
+  std::uint8_t model_state;
+  WatchdogState watchdog;
+};
+
+struct ServoReport {
+  double elapsed_s = 0.0;
+  common::Percentiles period_error_s;  // |actual period - nominal|
+  common::Percentiles model_age_s;     // age of the model used, per tick
+  common::Percentiles round_trip_s;    // pose sent -> model echoing it received
+  ChannelCounters channel;              // ticks, models taken, echoed seqs, force peaks
+  SafetyCounters safety;
+  WatchdogState final_watchdog = WatchdogState::kNoModel;
+  std::vector<TraceRow> trace;
+};
+
+class ServoLoop {
+ public:
+  ServoLoop(HapticDevice* device, ServoConfig config, common::LatestValue<SensedPose>* pose_out,
+            common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io);
+  // Runs on the calling thread until stop, run_seconds, or the script ends.
+  ServoReport Run(const std::atomic<bool>& stop);
+
+ private:
+  HapticDevice* device_;
+  ServoConfig config_;
+  common::LatestValue<SensedPose>* pose_out_;
+  common::LatestValue<ReceivedModel>* model_in_;
+  std::function<void()> wake_io_;
+};
+
+// Writes the trace as CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,
+// req_fx_N,req_fy_N,req_fz_N,model_age_ms,echo_pose_seq,model_state,watchdog,phase);
+// its first 8 columns are a pose log the replay backend can play.
+bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows);
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,93 @@
+#include "hapsim/servo/servo_channel.h"
+
+#include <algorithm>
+#include <string_view>
+
+#include "hapsim/common/clock.h"
+
+namespace hapsim::bridge {
+
+ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
+    : device_(device),
+      period_s_(config.period_s),
+      safety_(config.safety),
+      warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
+      round_trip_s_(config.stats_window),
+      model_age_s_(config.stats_window) {
+  pose_.device_id = config.device_id;
+  sent_seq_.fill(~0ull);
+}
+
+const DeviceReading& ServoChannel::Sense(double t_s) {
+  tick_.reading = device_->Read(t_s);
+  const DeviceReading& r = tick_.reading;
+  sensed_ns_ = common::SteadyNowNs();
+  const std::uint64_t seq = next_seq_++;
+  pose_.seq = seq;
+  pose_.t_device_ns = sensed_ns_;
+  pose_.tool.valid = true;
+  pose_.tool.tip_W_m = r.tip_W_m;
+  pose_.tool.orientation_W = r.orientation_W;
+  pose_.tool.velocity_W_m_per_s = r.velocity_W_m_per_s;
+  pose_.tool.buttons = r.buttons;
+  sent_seq_[seq % kSentRing] = seq;
+  sent_ns_[seq % kSentRing] = sensed_ns_;
+  return r;
+}
+
+void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
+  tick_.round_trip_s = -1.0;
+  ReceivedModel incoming;
+  if (!inbox.TakeIfNew(&incoming)) return;
+  const std::uint64_t echo = incoming.echo_pose_seq;
+  // A model computed from an older pose than the held one was overtaken in
+  // transit: it describes where the tool was, so it is discarded. Only while
+  // the held model is fresh — if the stream stalled (held model older than
+  // the watchdog's warning age), whatever arrives is newer than what we hold.
+  const bool held_is_fresh = have_model_ && sensed_ns_ - model_.received_ns <= warn_age_ns_;
+  if (held_is_fresh && echo < counters_.last_echo_seq) {
+    ++counters_.echo_regressions;
+    return;
+  }
+  model_ = incoming;  // unpacked and checked by the receive thread (hapsim::wire)
+  if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
+  counters_.last_echo_seq = echo;
+  ++counters_.models_taken;
+  if (sent_seq_[echo % kSentRing] == echo) {
+    tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo % kSentRing]) * 1e-9;
+    round_trip_s_.Record(tick_.round_trip_s);
+  }
+  have_model_ = true;
+}
+
+const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inbox) {
+  TakeNewestModel(inbox);
+  // A model can land between Sense's clock read and the take: age 0, not
+  // negative (negative means "no model" to the safety layer).
+  tick_.model_age_s =
+      have_model_ ? std::max(0.0, static_cast<double>(sensed_ns_ - model_.received_ns) * 1e-9) : -1.0;
+  if (have_model_) model_age_s_.Record(tick_.model_age_s);
+
+  const DeviceReading& r = tick_.reading;
+  tick_.requested_W_N =
+      have_model_ ? core::EvaluateLocalForce(model_.model, r.tip_W_m, r.velocity_W_m_per_s) : Eigen::Vector3d::Zero();
+  tick_.force_W_N = safety_.Apply(tick_.requested_W_N, tick_.model_age_s, period_s_);
+  device_->CommandForce(tick_.force_W_N);
+  RecordPeaks();
+  ++counters_.ticks;
+  return tick_;
+}
+
+void ServoChannel::RecordPeaks() {
+  const double magnitude = tick_.force_W_N.norm();
+  counters_.peak_force_N = std::max(counters_.peak_force_N, magnitude);
+  const std::string_view phase = tick_.reading.phase;
+  if (phase == "press" || phase == "hold") {
+    counters_.peak_force_pressing_N = std::max(counters_.peak_force_pressing_N, magnitude);
+  }
+  if (phase == "withdraw" && tick_.reading.tip_W_m.z() > 0.001) {
+    counters_.peak_force_withdrawn_N = std::max(counters_.peak_force_withdrawn_N, magnitude);
+  }
+}
+
+}  // namespace hapsim::bridge

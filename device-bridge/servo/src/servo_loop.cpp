@@ -1,0 +1,74 @@
+#include "hapsim/servo/servo_loop.h"
+
+#include <cstdio>
+
+#include "hapsim/servo/deadline_ticker.h"
+
+namespace hapsim::bridge {
+
+ServoLoop::ServoLoop(HapticDevice* device, ServoConfig config, common::LatestValue<SensedPose>* pose_out,
+                     common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io)
+    : device_(device),
+      config_(std::move(config)),
+      pose_out_(pose_out),
+      model_in_(model_in),
+      wake_io_(std::move(wake_io)) {}
+
+ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
+  ServoReport report;
+  report.trace.reserve(config_.trace_capacity);
+  ChannelConfig channel_config;
+  channel_config.device_id = config_.device_id;
+  channel_config.period_s = 1.0 / config_.rate_hz;
+  channel_config.safety = config_.safety;
+  ServoChannel channel(device_, channel_config);
+  DeadlineTicker ticker(config_.rate_hz);
+
+  while (!stop.load(std::memory_order_relaxed)) {
+    const double t = ticker.Wait();
+    if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
+    // 1. device -> pose mailbox (the DDS thread sends it)
+    const DeviceReading& reading = channel.Sense(t);
+    if (reading.finished && config_.stop_when_script_finishes) break;
+    pose_out_->Publish(channel.pose());
+    wake_io_();
+    // 2. newest model -> safety -> device
+    const ChannelTick& tick = channel.Actuate(*model_in_);
+    // 3. trace (reserved above: no allocation)
+    if (report.trace.size() < config_.trace_capacity) {
+      const ChannelCounters& c = channel.counters();
+      report.trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
+                              tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
+                              static_cast<std::uint8_t>(channel.model_state()), channel.watchdog()});
+    }
+  }
+  report.elapsed_s = ticker.ElapsedS();
+  report.period_error_s = ticker.PeriodError();
+  report.model_age_s = channel.ModelAge();
+  report.round_trip_s = channel.RoundTrip();
+  report.channel = channel.counters();
+  report.safety = channel.safety_counters();
+  report.final_watchdog = channel.watchdog();
+  return report;
+}
+
+bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return false;
+  std::fprintf(f, "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
+                  "echo_pose_seq,model_state,watchdog,phase\n");
+  for (const auto& r : rows) {
+    // t_s to the nanosecond: after a late tick the servo catches up with
+    // wakes microseconds apart, which 6 decimals would write as one time
+    // (and the replay backend needs them increasing).
+    std::fprintf(f, "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s\n", r.t_s,
+                 r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
+                 r.orientation_W.y(), r.orientation_W.z(), r.force_W_N.x(), r.force_W_N.y(), r.force_W_N.z(),
+                 r.requested_W_N.x(), r.requested_W_N.y(), r.requested_W_N.z(), r.model_age_ms,
+                 static_cast<unsigned long long>(r.echo_pose_seq), static_cast<unsigned>(r.model_state),
+                 ToString(r.watchdog), r.phase);
+  }
+  return std::fclose(f) == 0;
+}
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,81 @@
+// The physics server process, assembled: DDS adapter, session registry,
+// frame pump, gRPC services. main.cpp parses flags and handles signals.
+#pragma once
+#include <grpcpp/grpcpp.h>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "hapsim/api/metrics.h"
+#include "hapsim/api/session_service.h"
+#include "hapsim/api/viewer_service.h"
+#include "hapsim/classroom/access_policy.h"
+#include "hapsim/classroom/score_book.h"
+#include "hapsim/classroom/session_trials.h"
+#include "hapsim/dds/dds.h"
+#include "hapsim/device_link/server_dds.h"
+#include "hapsim/runtime/session_registry.h"
+#include "hapsim/runtime/tick_pool.h"
+#include "hapsim/streaming/frame_pump.h"
+#include "hapsim/streaming/viewer_hub.h"
+
+namespace hapsim::service {
+
+struct ServerOptions {
+  std::string listen_address = "127.0.0.1:50051";
+  SessionDefaults sessions;
+  int workers = 0;  // tick pool threads; 0: the CPUs this process may use
+  double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
+  int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
+  hapsim::dds::Options dds;
+  PoseLimits pose_limits;
+  std::string metrics_listen_address;  // host:port for GET /metrics (Prometheus); empty: off
+  // Classes, their sessions (created at start) and tokens; none: development
+  // mode (no tokens, anyone who reaches the port may do anything).
+  std::optional<ClassConfig> classes;
+  // TLS: PEM files. Both cert and key, or neither (plain TCP). With
+  // client_ca_file, clients must present a certificate signed by that CA.
+  std::string tls_cert_file, tls_key_file, tls_client_ca_file;
+};
+
+// True for addresses only this machine reaches (127.x, ::1, localhost).
+bool IsLoopbackAddress(const std::string& listen_address);
+
+class ServerApp {
+ public:
+  // Throws on a port/DDS/TLS-file failure or a class session that cannot be created.
+  explicit ServerApp(const ServerOptions& options);
+  ~ServerApp();
+
+  SessionRegistry& registry() { return *registry_; }
+  const ViewerHub& viewers() const { return viewers_; }
+  const ServerDds& dds() const { return *dds_; }
+  const TickPool& pool() const { return *pool_; }
+  const AccessPolicy& policy() const { return policy_; }
+  const TrialBook& trials() const { return trials_; }
+  int bound_port() const { return bound_port_; }
+  int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
+  // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
+  void Shutdown();
+
+ private:
+  std::unique_ptr<TickPool> pool_;  // declared first: destroyed after everything that wakes it
+  std::unique_ptr<ServerDds> dds_;
+  ViewerHub viewers_;  // before the registry, which tells it of every close
+  std::unique_ptr<SessionRegistry> registry_;
+  std::unique_ptr<FramePump> pump_;
+  ScoreBook scores_;
+  TrialBook trials_;
+  AccessPolicy policy_;
+  GrpcCallCounter grpc_calls_;  // outlives the gRPC server that calls into it
+  std::unique_ptr<SessionServiceImpl> session_service_;
+  std::unique_ptr<ViewerServiceImpl> viewer_service_;
+  std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<MetricsEndpoint> metrics_;  // after everything it reads: destroyed first
+  int bound_port_ = 0;
+  bool shut_down_ = false;
+};
+
+}  // namespace hapsim::service

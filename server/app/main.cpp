@@ -1,0 +1,186 @@
+// hapsim-server: the physics server. Hosts sessions (one scene each, ticked
+// at 1 kHz on a worker pool, clocked by their devices' poses), takes device
+// poses over DDS, answers with local force models,
+// and streams mesh frames to viewers over gRPC. SIGINT/SIGTERM stop it
+// cleanly; a one-line-per-session summary goes to stdout at exit.
+#include <spdlog/spdlog.h>
+
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <cstdio>
+#include <sstream>
+
+#include "hapsim/app/server_app.h"
+#include "hapsim/common/flags.h"
+#include "hapsim/common/logging.h"
+#include "hapsim/core/scenes/scene.h"
+
+namespace {
+
+// "--sessions demo:tissue_block,s2:acupuncture" -> sessions created at start.
+bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std::string& list) {
+  std::stringstream items(list);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    if (item.empty()) continue;
+    const auto colon = item.find(':');
+    const std::string id = item.substr(0, colon);
+    const std::string scene = colon == std::string::npos ? "tissue_block" : item.substr(colon + 1);
+    try {
+      registry.Create(id, scene, "", {});
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "hapsim-server: cannot create session '%s': %s\n", id.c_str(), e.what());
+      return false;
+    }
+  }
+  return true;
+}
+
+void PrintSummary(hapsim::service::ServerApp& app) {
+  const auto& d = app.dds().counters();
+  const auto pool = app.pool().stats();
+  std::printf("server: poses accepted %llu, rejected %llu, wrong-session %llu, other-device %llu, stale %llu; "
+              "force models written %llu; tick pool %d workers, %llu ticks, %llu wake-ups\n",
+              static_cast<unsigned long long>(d.poses_accepted.load()),
+              static_cast<unsigned long long>(d.poses_rejected.load()),
+              static_cast<unsigned long long>(d.poses_wrong_session.load()),
+              static_cast<unsigned long long>(d.poses_other_device.load()),
+              static_cast<unsigned long long>(d.poses_stale.load()),
+              static_cast<unsigned long long>(d.force_models_written.load()), app.pool().workers(),
+              static_cast<unsigned long long>(pool.ticks), static_cast<unsigned long long>(pool.wakeups));
+  for (const auto& s : app.registry().List()) {
+    const auto& c = s->counters();
+    std::printf(
+        "session %s (%s): ticks %llu (device-clocked %llu), sim %.3f s, late ticks %llu "
+        "(worst %.3f ms late), peak tool force %.3f N, numerical resets %llu\n",
+        s->id().c_str(), s->config().scene.c_str(), static_cast<unsigned long long>(c.tick.ticks.load()),
+        static_cast<unsigned long long>(c.tick.device_clocked_ticks.load()), c.tick.sim_time_s.load(),
+        static_cast<unsigned long long>(c.tick.late_ticks.load()),
+        static_cast<double>(c.tick.max_lateness_ns.load()) * 1e-6, c.tick.peak_tool_force_N.load(),
+        static_cast<unsigned long long>(c.tick.numerical_resets.load()));
+  }
+  std::fflush(stdout);
+}
+
+// --help: the flags, then every scene with its parameters (from the scenes'
+// parameter tables, as ListScenes and `hapsim-ctl scenes` give them).
+void PrintHelp(const hapsim::common::Flags& flags) {
+  std::fputs(flags.Help().c_str(), stdout);
+  std::printf("\nScenes (--sessions id:scene uses the defaults; `hapsim-ctl create --param KEY=VALUE` sets them):\n");
+  for (const auto& scene : hapsim::core::SceneCatalog()) {
+    std::printf("\n%s: %s\n%s", scene.name.c_str(), scene.description.c_str(),
+                hapsim::core::FormatParams(scene.params).c_str());
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hapsim::service::ServerOptions options;
+  std::string log_level = "info", sessions, dds_config, port_file, class_config;
+  double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
+  int dds_domain = 0, max_sessions = 64;
+  hapsim::common::Flags flags(
+      "hapsim-server",
+      "Physics server of hapsim: runs tissue-simulation sessions at a fixed tick rate, takes stylus\n"
+      "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
+      "over gRPC (SessionService, ViewerService, health checking).");
+  flags.Add("listen", &options.listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
+  flags.Add("port-file", &port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
+  flags.Add("metrics-listen", &options.metrics_listen_address,
+            "serve Prometheus metrics at http://HOST:PORT/metrics (docs/metrics.md; empty: off)");
+  flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
+  flags.Add("class-config", &class_config,
+            "TOML file of classes, their sessions (created at start) and tokens with roles (docs/classroom.md);\n"
+            "every call then needs a token. Empty: development mode, no tokens (keep --listen on loopback)");
+  flags.Add("tls-cert", &options.tls_cert_file, "serve gRPC over TLS with this PEM certificate (chain)");
+  flags.Add("tls-key", &options.tls_key_file, "the PEM private key of --tls-cert");
+  flags.Add("tls-client-ca", &options.tls_client_ca_file,
+            "require client certificates signed by this PEM CA (with --tls-cert/--tls-key)");
+  flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
+  flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");
+  flags.Add("max-sessions", &max_sessions, "refuse to create more sessions than this");
+  flags.Add("quantum-mm", &quantum_mm, "position quantisation of viewer deltas [mm]");
+  flags.Add("pose-timeout-ms", &pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
+  flags.Add("pose-slack-ms", &pose_slack_ms,
+            "a device's pose clocks its session; a pose later than one period plus this: tick without it [ms]");
+  flags.Add("workers", &options.workers, "tick worker threads (0: one per CPU this process may run on)");
+  flags.Add("max-message-bytes", &options.max_message_bytes, "largest gRPC request accepted [bytes]");
+  flags.Add("dds-domain", &dds_domain, "DDS domain id");
+  flags.Add("dds-config", &dds_config,
+            "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else the built-in loopback config)");
+  flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
+  std::string error;
+  switch (flags.Parse(argc, argv, &error)) {
+    case hapsim::common::Flags::Result::kHelp: PrintHelp(flags); return 0;
+    case hapsim::common::Flags::Result::kVersion:
+      std::fputs(flags.Version().c_str(), stdout);
+      return 0;
+    case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
+    case hapsim::common::Flags::Result::kOk: break;
+  }
+  if (!(tick_hz >= 10.0 && tick_hz <= 10000.0)) {
+    std::fprintf(stderr, "hapsim-server: --tick-hz must be within [10, 10000]\n");
+    return 2;
+  }
+  // Each flag's range, named in the message (a bad value must not surface
+  // later as a client's error).
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {quantum_mm > 0.0 && quantum_mm <= 1.0, "--quantum-mm", "(0, 1]"},
+      {max_sessions >= 1, "--max-sessions", ">= 1"},
+      {dds_domain >= 0 && dds_domain <= 232, "--dds-domain", "[0, 232]"},
+      {pose_timeout_ms > 0.0 && pose_timeout_ms <= 60000.0, "--pose-timeout-ms", "(0, 60000]"},
+      {pose_slack_ms >= 0.0 && pose_slack_ms <= pose_timeout_ms, "--pose-slack-ms", "[0, --pose-timeout-ms]"},
+      {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
+      {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
+      {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz", "(0, 1000]"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-server: %s\n", out_of_range.c_str());
+    return 2;
+  }
+  if (!hapsim::common::SetUpLogging("server", log_level)) {
+    std::fprintf(stderr, "hapsim-server: unknown --log-level '%s'\n", log_level.c_str());
+    return 2;
+  }
+  options.sessions.tick_period_s = 1.0 / tick_hz;
+  options.sessions.max_sessions = static_cast<std::size_t>(max_sessions);
+  options.sessions.pose_timeout_s = pose_timeout_ms * 1e-3;
+  options.sessions.pose_slack_s = pose_slack_ms * 1e-3;
+  options.quantum_m = quantum_mm * 1e-3;
+  options.dds.domain_id = static_cast<std::uint32_t>(dds_domain);
+  options.dds.config_file = dds_config;
+  if (!class_config.empty()) {
+    try {
+      options.classes = hapsim::service::LoadClassConfig(class_config);
+    } catch (const hapsim::service::ClassConfigError& e) {
+      std::fprintf(stderr, "hapsim-server: bad --class-config: %s\n", e.what());
+      return 2;
+    }
+  }
+
+  try {
+    hapsim::service::ServerApp app(options);
+    if (!CreateStartupSessions(app.registry(), sessions)) return 2;
+    if (!port_file.empty()) {
+      // Written after the sessions exist, so a script that sees the file can use them.
+      std::FILE* f = std::fopen(port_file.c_str(), "w");
+      if (!f || std::fprintf(f, "%d\n", app.bound_port()) < 0 || std::fclose(f) != 0) {
+        std::fprintf(stderr, "hapsim-server: cannot write --port-file %s\n", port_file.c_str());
+        return 1;
+      }
+    }
+    asio::io_context io;
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const std::error_code&, int signal) {
+      spdlog::info("signal {} received: shutting down", signal);
+    });
+    io.run();  // returns once the signal handler has run
+    PrintSummary(app);
+    app.Shutdown();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-server: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,130 @@
+#include "hapsim/app/server_app.h"
+
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+
+namespace hapsim::service {
+
+namespace {
+
+std::string ReadPem(const std::string& path, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(std::string("cannot read ") + what + " " + path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (text.str().find("-----BEGIN") == std::string::npos) {
+    throw std::runtime_error(std::string(what) + " " + path + " is not a PEM file");
+  }
+  return text.str();
+}
+
+std::shared_ptr<grpc::ServerCredentials> MakeCredentials(const ServerOptions& o) {
+  if (o.tls_cert_file.empty() != o.tls_key_file.empty()) {
+    throw std::runtime_error("TLS needs both a certificate and its key (--tls-cert and --tls-key)");
+  }
+  if (o.tls_cert_file.empty()) {
+    if (!o.tls_client_ca_file.empty()) throw std::runtime_error("--tls-client-ca needs --tls-cert and --tls-key");
+    return grpc::InsecureServerCredentials();
+  }
+  grpc::SslServerCredentialsOptions ssl;
+  ssl.pem_key_cert_pairs.push_back({ReadPem(o.tls_key_file, "TLS key"), ReadPem(o.tls_cert_file, "TLS certificate")});
+  if (!o.tls_client_ca_file.empty()) {
+    ssl.pem_root_certs = ReadPem(o.tls_client_ca_file, "client CA");
+    ssl.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+  }
+  return grpc::SslServerCredentials(ssl);
+}
+
+}  // namespace
+
+bool IsLoopbackAddress(const std::string& a) {
+  return a.rfind("127.", 0) == 0 || a.rfind("localhost:", 0) == 0 || a.rfind("[::1]:", 0) == 0 ||
+         a.rfind("ipv4:127.", 0) == 0;
+}
+
+ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(*o.classes) : AccessPolicy()) {
+  const auto credentials = MakeCredentials(o);  // bad TLS files fail before anything starts
+  dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
+  spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
+               dds_->instance());
+  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
+  spdlog::info("tick pool: {} workers", pool_->workers());
+  registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get(), &viewers_, FollowTrials(&policy_));
+  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_,
+                                      [this](const SessionTable& sessions) { trials_.Observe(sessions); });
+  session_service_ =
+      std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_);
+  viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m, &policy_);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(o.listen_address, credentials, &bound_port_);
+  builder.RegisterService(session_service_.get());
+  builder.RegisterService(viewer_service_.get());
+  builder.SetMaxReceiveMessageSize(o.max_message_bytes);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(grpc_calls_.MakeInterceptorFactory());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
+  // Small HTTP/2 write buffer: OnWriteDone then means "nearly delivered", so a
+  // slow viewer gets coalesced frames instead of a seconds-long backlog.
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_WRITE_BUFFER_SIZE, 16 * 1024);
+  server_ = builder.BuildAndStart();
+  if (!server_ || bound_port_ == 0) {
+    throw std::runtime_error("cannot listen on " + o.listen_address +
+                             " (address in use or invalid? choose another with --listen)");
+  }
+  if (!o.metrics_listen_address.empty()) {
+    metrics_ = std::make_unique<MetricsEndpoint>(o.metrics_listen_address, [this] {
+      return FormatMetrics(*registry_, dds_->counters(), pool_->stats(), &grpc_calls_,
+                           policy_.enabled() ? &policy_.counters() : nullptr);
+    });
+    spdlog::info("metrics at http://{}/metrics (port {})", o.metrics_listen_address, metrics_->bound_port());
+  }
+  dds_->Start(registry_.get(), pool_.get());
+  pump_->Start();
+  if (o.classes) {
+    for (const auto& warning : o.classes->warnings) spdlog::warn("class config: {}", warning);
+    try {
+      for (const auto& cls : o.classes->classes) {
+        for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {});
+        spdlog::info("class '{}': {} sessions", cls.name, cls.sessions.size());
+      }
+    } catch (const std::exception& e) {
+      Shutdown();  // everything started above stops before the error leaves
+      throw std::runtime_error(std::string("cannot create the class config's sessions: ") + e.what());
+    }
+  }
+  const bool tls = !o.tls_cert_file.empty();
+  spdlog::info("hapsim-server listening on {} (port {}; {}; {})", o.listen_address, bound_port_,
+               tls ? (o.tls_client_ca_file.empty() ? "TLS" : "TLS with client certificates") : "plain TCP",
+               o.classes ? "tokens required" : "no auth: development mode");
+  if (!IsLoopbackAddress(o.listen_address) && !o.classes) {
+    spdlog::warn("*** NO AUTHENTICATION on {}: anyone who reaches this port can create, reset, close and watch "
+                 "every session. Give a --class-config (and TLS) unless this network is yours alone. ***",
+                 o.listen_address);
+  }
+  if (!IsLoopbackAddress(o.listen_address) && o.classes && !tls) {
+    spdlog::warn("*** tokens travel in plain text on {}: add --tls-cert/--tls-key ***", o.listen_address);
+  }
+}
+
+ServerApp::~ServerApp() { Shutdown(); }
+
+void ServerApp::Shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  metrics_.reset();  // no scrape reads the registry while it closes
+  session_service_->Stop();  // class views end before the gRPC server waits for its calls
+  pump_->Stop();
+  registry_->CloseAll();  // stops ticks and ends every viewer stream
+  server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
+  server_->Wait();
+  dds_->Stop();
+  pool_->Stop();
+}
+
+}  // namespace hapsim::service

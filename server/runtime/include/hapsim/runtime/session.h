@@ -1,0 +1,156 @@
+// A session: one scene, stepped one period per tick. The session is passive —
+// it owns no thread. A TickPool worker calls RunTick() when the session is
+// due: when its device's newest pose arrives (the device is the clock), or on
+// its own deadline when no device streams or the next pose is late by more
+// than the slack. Each tick assembles one TickInput, steps, writes the force
+// model at once through the sink (no hand-off to another thread), and every
+// 1/frame-rate publishes a snapshot for viewers from a preallocated ring.
+//
+// Threads:
+//   DDS thread    OfferPose()      -> pose mailbox, device ownership
+//   pool worker   RunTick()        (one at a time; never allocates)
+//   frame pump    TakeSnapshot() (the ViewerHub fans snapshots out to viewers)
+//   gRPC threads  RequestPause/Reset, counters
+//
+// The session knows neither gRPC nor DDS: force models leave as plain
+// ForceModelMessages through its SessionPort (the DDS adapter packs them),
+// and viewers are the ViewerHub's business.
+#pragma once
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "hapsim/common/latest_value.h"
+#include "hapsim/core/scenes/scene.h"
+#include "hapsim/runtime/device_ownership.h"
+#include "hapsim/runtime/scene_snapshot.h"
+#include "hapsim/runtime/session_counters.h"
+#include "hapsim/runtime/session_port.h"
+#include "hapsim/runtime/snapshot_ring.h"
+#include "hapsim/runtime/tick_input.h"
+#include "hapsim/runtime/tick_listener.h"
+#include "hapsim/runtime/tick_pool.h"
+
+namespace hapsim::service {
+
+struct SessionConfig {
+  std::string id;
+  std::string scene = "tissue_block";
+  std::string owner;
+  std::map<std::string, double> params;
+  double tick_period_s = 0.001;      // physics tick (1 kHz)
+  double frame_rate_hz = 60.0;       // snapshots for viewers
+  double pose_timeout_s = 0.25;      // no pose for this long: the tool is absent
+  // A streaming device's next pose may be this late before the session ticks
+  // on its own deadline instead (with the previous pose).
+  double pose_slack_s = 0.0005;
+};
+
+// A pose accepted by the DDS thread.
+struct PoseSample {
+  core::ToolInput tool;
+  std::uint32_t device_id = 0;
+  std::uint64_t seq = 0;
+  std::int64_t received_ns = 0;  // server steady clock
+};
+
+class Session : public TickTask {
+ public:
+  // Takes a scene already built (outside every lock; see SessionRegistry)
+  // and the port its force models go out through (written on the worker,
+  // right after the step), and optionally what follows its ticks. Throws
+  // std::invalid_argument on a bad tick period or frame rate.
+  Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port,
+          std::shared_ptr<TickListener> listener = nullptr);
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  const SessionConfig& config() const { return config_; }
+  const std::string& id() const { return config_.id; }
+  SessionCounters& counters() { return counters_; }
+  const SessionCounters& counters() const { return counters_; }
+  bool paused() const { return paused_.load(); }
+  SessionPort& port() const { return *port_; }
+
+  // DDS thread only. Offers a pose: false (and counted) if another device
+  // owns the session. On true, wake the session at PoseDueNs().
+  PoseVerdict OfferPose(const PoseSample& pose);
+  // When a tick for a pose that arrived at arrival_ns may run: at once,
+  // unless the previous tick started less than half a period earlier (a
+  // device streaming faster than the tick rate must not speed up sim time).
+  std::int64_t PoseDueNs(std::int64_t arrival_ns) const;
+
+  // Pool worker (TickTask). One tick: input, step, force model, snapshot;
+  // returns the next deadline.
+  std::int64_t RunTick(std::int64_t due_ns, std::int64_t now_ns) override;
+
+  // Called with every TickInput before it is applied (on the worker; for
+  // recording and tests). Set before the session is added to a pool.
+  void SetTickObserver(std::function<void(const TickInput&)> observer) { tick_observer_ = std::move(observer); }
+  const core::Scene& scene() const { return *scene_; }  // only while no tick runs
+
+  // Frame pump only. After taking a snapshot's topology edits, the pump says
+  // up to which version it has them, so later snapshots carry only newer ones.
+  bool TakeSnapshot(std::shared_ptr<const SceneSnapshot>* out) { return snapshot_outbox_.TakeIfNew(out); }
+  // What follows this session's ticks (nullptr: nothing); fixed at creation.
+  TickListener* tick_listener() const { return listener_.get(); }
+  const std::vector<std::string>& layer_names() const { return *layer_names_; }
+  void MarkTopologyTaken(std::uint64_t version) { topology_taken_.store(version, std::memory_order_release); }
+
+  // Any thread.
+  void RequestPause(bool pause) { paused_.store(pause); }
+  void RequestReset() { reset_requests_.fetch_add(1); }
+
+ private:
+  TickInput AssembleInput(std::int64_t now_ns);
+  std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
+  void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N);
+  void PublishForceModel(const TickInput& in, const core::LocalForceModel& model);
+  void PublishSnapshot(const TickInput& in);
+
+  SessionConfig config_;
+  std::int64_t period_ns_;
+  std::int64_t pose_timeout_ns_;
+  std::int64_t pose_slack_ns_;
+  std::unique_ptr<core::Scene> scene_;
+  std::shared_ptr<SessionPort> port_;
+  std::function<void(const TickInput&)> tick_observer_;
+  std::shared_ptr<TickListener> listener_;
+  SessionCounters counters_;
+
+  // DDS thread state.
+  DeviceOwnership ownership_;
+
+  common::LatestValue<PoseSample> pose_inbox_;
+  common::LatestValue<std::shared_ptr<const SceneSnapshot>> snapshot_outbox_;
+  std::atomic<bool> paused_{false};
+  std::atomic<std::uint32_t> reset_requests_{0};
+  std::atomic<std::int64_t> last_tick_start_ns_{0};  // written by the tick, read by the DDS thread
+
+  // Tick state (one worker at a time; the pool orders successive ticks).
+  PoseSample last_pose_;
+  bool have_pose_ = false;
+  std::uint64_t tick_index_ = 0;
+  std::uint64_t force_seq_ = 0;
+  std::uint64_t snapshot_id_ = 0;
+  std::uint32_t resets_seen_ = 0;
+  std::uint64_t ticks_per_frame_ = 16;
+  ForceModelMessage force_message_;
+  // Peak |tool force| of the ticks since the last published snapshot, and
+  // of the last intervals (SceneSnapshot::interval_peak_N): tick thread only.
+  double interval_peak_N_ = 0.0;
+  std::array<double, SceneSnapshot::kPeakIntervals> interval_peaks_N_{};
+  SnapshotRing snapshots_;
+  std::shared_ptr<const std::vector<std::string>> part_names_;   // fixed at build
+  std::shared_ptr<const std::vector<std::string>> layer_names_;  // fixed at build
+  // The topology version up to which the frame pump has taken the edits
+  // (written by the pump, read by the tick): snapshots carry only newer ones.
+  std::atomic<std::uint64_t> topology_taken_{0};
+};
+
+}  // namespace hapsim::service

@@ -1,0 +1,194 @@
+#include "hapsim/runtime/session.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "hapsim/common/clock.h"
+
+namespace hapsim::service {
+
+namespace {
+
+template <class T>
+void AtomicMax(std::atomic<T>& a, T v) {
+  T cur = a.load(std::memory_order_relaxed);
+  while (v > cur && !a.compare_exchange_weak(cur, v, std::memory_order_relaxed)) {
+  }
+}
+
+std::int64_t SecondsToNs(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+
+constexpr std::size_t kRecentEvents = 64;  // events carried by each snapshot
+
+}  // namespace
+
+Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port,
+                 std::shared_ptr<TickListener> listener)
+    : config_(std::move(config)),
+      period_ns_(SecondsToNs(config_.tick_period_s)),
+      pose_timeout_ns_(SecondsToNs(config_.pose_timeout_s)),
+      pose_slack_ns_(SecondsToNs(config_.pose_slack_s)),
+      scene_(std::move(scene)),
+      port_(std::move(port)),
+      listener_(std::move(listener)),
+      ownership_(pose_timeout_ns_),
+      snapshots_(scene_ ? SnapshotRing::Sizes{static_cast<std::size_t>(scene_->Vertices_m().cols()),
+                                              scene_->Topology().Triangles().Capacity(), kRecentEvents,
+                                              scene_->Topology().Log().Capacity()}
+                        : SnapshotRing::Sizes{}) {
+  if (!scene_) throw std::invalid_argument("session needs a scene");
+  if (!port_) throw std::invalid_argument("session needs a port");
+  if (!(config_.tick_period_s > 0.0 && config_.tick_period_s <= 0.1)) {
+    throw std::invalid_argument("tick period must be in (0, 0.1] s");
+  }
+  if (!(config_.frame_rate_hz > 0.0 && config_.frame_rate_hz <= 1000.0)) {
+    throw std::invalid_argument("frame rate must be in (0, 1000] Hz");
+  }
+  if (!(config_.pose_slack_s >= 0.0 && config_.pose_slack_s <= config_.pose_timeout_s)) {
+    throw std::invalid_argument("pose slack must be in [0, pose timeout]");
+  }
+  part_names_ = std::make_shared<const std::vector<std::string>>(scene_->Topology().PartNames());
+  layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
+  ticks_per_frame_ = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::llround(1.0 / (config_.frame_rate_hz * config_.tick_period_s))));
+  PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
+}
+
+PoseVerdict Session::OfferPose(const PoseSample& pose) {
+  const PoseVerdict verdict = ownership_.Accept(pose.device_id, pose.seq, pose.received_ns);
+  switch (verdict) {
+    case PoseVerdict::kOtherDevice:
+      counters_.poses.from_other_devices.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case PoseVerdict::kStale:
+      counters_.poses.stale.fetch_add(1, std::memory_order_relaxed);
+      break;
+    case PoseVerdict::kAccepted:
+      counters_.poses.received.fetch_add(1, std::memory_order_relaxed);
+      pose_inbox_.Publish(pose);
+      break;
+  }
+  return verdict;
+}
+
+std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {
+  return std::max(arrival_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
+}
+
+std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
+  last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
+  const TickInput in = AssembleInput(now_ns);
+  if (tick_observer_) tick_observer_(in);
+  StepScene(*scene_, in, config_.tick_period_s);
+  // The step's outputs, read once for the counters, the listener and the device.
+  const core::LocalForceModel model = scene_->ForceModel();
+  const double tool_force_N = scene_->ToolForce_W_N().norm();
+  if (listener_) listener_->OnTick(TickOutcome{in, *scene_, model.state, tool_force_N});
+  const std::int64_t work_ns = std::max<std::int64_t>(0, common::SteadyNowNs() - now_ns);
+  counters_.tick.tick_work_ns.fetch_add(static_cast<std::uint64_t>(work_ns), std::memory_order_relaxed);
+  counters_.tick.tick_work.Observe_ns(work_ns);
+  RecordTiming(in, due_ns, now_ns, tool_force_N);
+  interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
+  if (in.tool.valid) PublishForceModel(in, model);
+  if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
+  return NextDueNs(in, due_ns, now_ns);
+}
+
+TickInput Session::AssembleInput(std::int64_t now_ns) {
+  TickInput in;
+  in.tick = tick_index_++;
+  PoseSample pose;
+  if (pose_inbox_.TakeIfNew(&pose)) {
+    last_pose_ = pose;
+    have_pose_ = true;
+    in.fresh_pose = true;
+  }
+  in.tool = last_pose_.tool;
+  in.device_id = last_pose_.device_id;
+  in.pose_seq = last_pose_.seq;
+  if (!have_pose_ || now_ns - last_pose_.received_ns > pose_timeout_ns_) in.tool.valid = false;  // device gone
+  in.paused = paused_.load(std::memory_order_relaxed);
+  const std::uint32_t resets = reset_requests_.load(std::memory_order_relaxed);
+  in.reset = resets != resets_seen_;
+  resets_seen_ = resets;
+  return in;
+}
+
+// A streaming device clocks the session: the next tick comes with its next
+// pose, and this deadline (one period plus the slack after a device tick)
+// only fires if that pose is late. Without a device the session ticks on a
+// 1 kHz grid shared by all sessions, so their ticks coalesce into one
+// wake-up. After a long stall the schedule re-anchors instead of bursting.
+std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const {
+  std::int64_t next;
+  if (in.tool.valid) {  // a device streams
+    next = due_ns + period_ns_ + (in.fresh_pose ? pose_slack_ns_ : 0);
+  } else {
+    next = (due_ns / period_ns_ + 1) * period_ns_;
+  }
+  if (now_ns - next > 10 * period_ns_) next = (now_ns / period_ns_ + 1) * period_ns_;
+  return next;
+}
+
+void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N) {
+  const std::int64_t lateness_ns = now_ns - due_ns;
+  counters_.tick.tick_lateness.Observe_ns(lateness_ns);
+  if (lateness_ns > period_ns_) counters_.tick.late_ticks.fetch_add(1, std::memory_order_relaxed);
+  AtomicMax(counters_.tick.max_lateness_ns, lateness_ns);
+  if (in.fresh_pose) counters_.tick.device_clocked_ticks.fetch_add(1, std::memory_order_relaxed);
+  counters_.tick.ticks.fetch_add(1, std::memory_order_relaxed);
+  counters_.tick.device_streaming.store(in.tool.valid, std::memory_order_relaxed);
+  counters_.tick.owning_device_id.store(in.device_id, std::memory_order_relaxed);
+  counters_.tick.sim_time_s.store(scene_->SimTime_s(), std::memory_order_relaxed);
+  counters_.tick.numerical_resets.store(scene_->Status().numerical_resets, std::memory_order_relaxed);
+  if (in.reset) counters_.tick.peak_tool_force_N.store(0.0);
+  AtomicMax(counters_.tick.peak_tool_force_N, tool_force_N);
+}
+
+void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel& model) {
+  ForceModelMessage& m = force_message_;
+  m.device_id = in.device_id;
+  m.seq = force_seq_++;
+  m.echo_pose_seq = in.pose_seq;
+  // Paused: the tissue is frozen, so the device gets no force (safe default).
+  m.model = in.paused ? core::LocalForceModel{} : model;
+  m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
+  m.t_server_ns = common::SteadyNowNs();
+  // A refused write is counted by the port (ServerDds counters).
+  if (port_->WriteForceModel(m)) {
+    counters_.tick.force_models_sent.fetch_add(1, std::memory_order_relaxed);
+    if (in.fresh_pose) counters_.tick.pose_to_model.Observe_ns(m.t_server_ns - last_pose_.received_ns);
+  }
+}
+
+void Session::PublishSnapshot(const TickInput& in) {
+  std::shared_ptr<SceneSnapshot> s = snapshots_.Acquire();
+  if (!s) {
+    counters_.tick.snapshots_skipped.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  s->id = ++snapshot_id_;
+  interval_peaks_N_[s->id % SceneSnapshot::kPeakIntervals] = interval_peak_N_;
+  interval_peak_N_ = 0.0;
+  s->interval_peak_N = interval_peaks_N_;
+  s->sim_time_s = scene_->SimTime_s();
+  s->paused = in.paused;
+  CopyMesh(scene_->Vertices_m(), scene_->Topology(), topology_taken_.load(std::memory_order_acquire), s.get());
+  s->part_names = part_names_;
+  s->layer_names = layer_names_;
+  s->tool = last_pose_.tool;
+  s->tool.valid = in.tool.valid;
+  s->tool_force_W_N = scene_->ToolForce_W_N();
+  s->contact = scene_->ForceModel().state;
+  s->current_layer = scene_->Status().current_layer;
+  s->tip_depth_m = scene_->Status().tip_depth_m;
+  const auto events = scene_->Events();
+  const std::size_t first = events.size() > kRecentEvents ? events.size() - kRecentEvents : 0;
+  s->recent_events.assign(events.begin() + static_cast<std::ptrdiff_t>(first), events.end());
+  s->events_total = scene_->EventsTotal();
+  snapshot_outbox_.Publish(std::move(s));
+  if (listener_) listener_->OnSnapshotPublished();
+}
+
+}  // namespace hapsim::service

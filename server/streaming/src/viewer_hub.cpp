@@ -1,0 +1,119 @@
+#include "hapsim/streaming/viewer_hub.h"
+
+#include <algorithm>
+#include <utility>
+
+namespace hapsim::service {
+
+namespace {
+
+grpc::Status ClosedStatus(const Session& s, CloseReason why) {
+  if (why == CloseReason::kServerStopping) return {grpc::StatusCode::UNAVAILABLE, "server shutting down"};
+  return {grpc::StatusCode::NOT_FOUND, "session '" + s.id() + "' was closed"};
+}
+
+void EndAll(const std::shared_ptr<const std::vector<std::shared_ptr<ViewerLink>>>& links, const grpc::Status& why) {
+  if (!links) return;
+  for (const auto& link : *links) link->Close(why);
+}
+
+}  // namespace
+
+ViewerHub::Entry& ViewerHub::EntryLocked(const std::shared_ptr<Session>& session) {
+  Entry& e = entries_[session.get()];
+  if (!e.session) e.session = session;
+  return e;
+}
+
+void ViewerHub::SetViewerCount(Entry& e) {
+  e.session->counters().viewers.connected.store(static_cast<std::uint32_t>(e.links->size()));
+}
+
+void ViewerHub::Add(const std::shared_ptr<Session>& session, std::shared_ptr<ViewerLink> link) {
+  std::lock_guard lock(mutex_);
+  Entry& e = EntryLocked(session);
+  auto links = std::make_shared<Links>(*e.links);
+  links->push_back(std::move(link));
+  e.links = std::move(links);
+  SetViewerCount(e);
+}
+
+void ViewerHub::Remove(const Session& session, const ViewerLink* link) {
+  std::lock_guard lock(mutex_);
+  const auto it = entries_.find(&session);
+  if (it == entries_.end()) return;
+  auto links = std::make_shared<Links>(*it->second.links);
+  std::erase_if(*links, [link](const auto& l) { return l.get() == link; });
+  it->second.links = std::move(links);
+  SetViewerCount(it->second);
+}
+
+std::shared_ptr<const SceneSnapshot> ViewerHub::LatestSnapshot(const Session& session) const {
+  std::lock_guard lock(mutex_);
+  const auto it = entries_.find(&session);
+  return it == entries_.end() ? nullptr : it->second.latest;
+}
+
+void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
+  for (const auto& [id, session] : sessions) {
+    std::shared_ptr<const SceneSnapshot> fresh;
+    const bool is_new = session->TakeSnapshot(&fresh);
+    std::shared_ptr<const SceneSnapshot> latest;
+    std::shared_ptr<const Links> links;
+    std::shared_ptr<TopologyHistory> history;
+    {
+      std::lock_guard lock(mutex_);
+      Entry& e = EntryLocked(session);
+      if (is_new) e.latest = std::move(fresh);
+      latest = e.latest;
+      links = e.links;
+      history = e.history;
+    }
+    if (!latest) continue;
+    if (is_new) {
+      history->Absorb(*latest);
+      session->MarkTopologyTaken(history->End());
+    }
+    for (const auto& link : *links) {  // outside the lock: may run a reaction inline
+      const ViewerLink::OfferResult result = link->Offer(latest, *history, now_ns);
+      SessionCounters& c = session->counters();
+      if (result == ViewerLink::OfferResult::kCoalesced)
+        c.viewers.frames_coalesced.fetch_add(1, std::memory_order_relaxed);
+      if (result == ViewerLink::OfferResult::kSent) {
+        c.viewers.frames_sent.fetch_add(1, std::memory_order_relaxed);
+        c.viewers.bytes_sent.fetch_add(link->last_frame_bytes(), std::memory_order_relaxed);
+      }
+    }
+  }
+  // Sessions closed since their stream joined (Add after the close): end
+  // those streams now and forget the session.
+  std::vector<Entry> gone;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = entries_.begin(); it != entries_.end();) {
+      const auto found = sessions.find(it->second.session->id());
+      if (found != sessions.end() && found->second == it->second.session) {
+        ++it;
+      } else {
+        gone.push_back(std::move(it->second));
+        it = entries_.erase(it);
+      }
+    }
+  }
+  for (const Entry& e : gone) EndAll(e.links, ClosedStatus(*e.session, CloseReason::kClosed));
+}
+
+void ViewerHub::OnSessionClosed(Session& session, CloseReason why) {
+  Entry gone;
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = entries_.find(&session);
+    if (it == entries_.end()) return;
+    gone = std::move(it->second);
+    entries_.erase(it);
+  }
+  EndAll(gone.links, ClosedStatus(session, why));
+  session.counters().viewers.connected.store(0);
+}
+
+}  // namespace hapsim::service

@@ -1,0 +1,177 @@
+// One device's servo tick: round trips come from the send time remembered
+// for the echoed seq, and a stale model drives the watchdog's event counters.
+#include "hapsim/servo/servo_channel.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backends/synthetic_device.h"
+#include "hapsim/common/clock.h"
+
+namespace hapsim::bridge {
+namespace {
+
+constexpr std::int64_t kMsNs = 1'000'000;
+
+SyntheticScript PressedTwoMillimetres() {
+  SyntheticScript script;
+  script.kind = "hold";
+  script.start_height_m = 0.0;
+  script.entry_W_m = Eigen::Vector3d(0, 0, -0.002);
+  return script;
+}
+
+// A contact model as the DDS side hands it over (k = 500 N/m at z = 0).
+ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns) {
+  ReceivedModel m;
+  m.model.state = core::ContactState::kContact;
+  m.model.normal_W = Eigen::Vector3d::UnitZ();
+  m.model.stiffness_N_per_m = 500.0;
+  m.echo_pose_seq = echo_pose_seq;
+  m.received_ns = received_ns;
+  return m;
+}
+
+class ServoChannelTest : public ::testing::Test {
+ protected:
+  SyntheticDevice device_{PressedTwoMillimetres()};
+  common::LatestValue<ReceivedModel> inbox_;
+  ServoChannel channel_{&device_, ChannelConfig{7, 0.001, {}, 1024}};
+};
+
+TEST_F(ServoChannelTest, SenseFillsThePoseWithThisDeviceSessionAndNextSeq) {
+  channel_.Sense(0.0);
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  EXPECT_EQ(channel_.pose().device_id, 7u);
+  EXPECT_EQ(channel_.pose().seq, 1u);
+  EXPECT_DOUBLE_EQ(channel_.pose().tool.tip_W_m.z(), -0.002);
+}
+
+TEST_F(ServoChannelTest, AModelEchoingAPoseGivesTheTimeFromSensingToArrival) {
+  channel_.Sense(0.0);
+  const std::int64_t sent_ns = channel_.pose().t_device_ns;
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  inbox_.Publish(ContactModel(0, sent_ns + 3 * kMsNs));
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_NEAR(tick.round_trip_s, 0.003, 1e-12);
+  EXPECT_EQ(channel_.RoundTrip().count, 1u);
+  EXPECT_EQ(channel_.counters().models_taken, 1u);
+  EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
+}
+
+TEST_F(ServoChannelTest, NoNewModelMeansNoRoundTripThisTick) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(0, common::SteadyNowNs()));
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.001);
+  EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
+  EXPECT_EQ(channel_.RoundTrip().count, 1u);
+  EXPECT_EQ(channel_.ModelAge().count, 2u);  // the held model still has an age each tick
+}
+
+TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(99, common::SteadyNowNs()));
+  EXPECT_LT(channel_.Actuate(inbox_).round_trip_s, 0.0);
+  EXPECT_EQ(channel_.RoundTrip().count, 0u);
+}
+
+TEST_F(ServoChannelTest, AModelOvertakenInTransitIsDiscardedAndCounted) {
+  // Echo 1 arrives after echo 2 (reordered): the tool keeps the force of the
+  // newer model, 2 mm x 500 N/m, not echo 1's 5 mm.
+  for (std::uint64_t echo : {0u, 2u, 1u, 3u}) {
+    channel_.Sense(0.0);
+    ReceivedModel m = ContactModel(echo, common::SteadyNowNs());
+    if (echo == 1) m.model.anchor_W_m.z() = 0.003;  // the overtaken model would ask for 5 mm
+    inbox_.Publish(m);
+    const ChannelTick& tick = channel_.Actuate(inbox_);
+    if (echo == 1) {
+      EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);
+    }
+  }
+  EXPECT_EQ(channel_.counters().echo_regressions, 1u);
+  EXPECT_EQ(channel_.counters().models_taken, 3u);
+  EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
+  EXPECT_EQ(channel_.counters().last_echo_seq, 3u);
+}
+
+TEST_F(ServoChannelTest, AfterAStallAnOlderEchoIsTakenNotDiscarded) {
+  // Held model echoes 100 and was received 30 ms ago (past the 20 ms warning):
+  // the stream stalled (e.g. the server restarted), so a model echoing 50 is
+  // taken - discarding it would keep the device on a stale model.
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(100, common::SteadyNowNs() - 30 * kMsNs));
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(50, common::SteadyNowNs()));
+  channel_.Actuate(inbox_);
+  EXPECT_EQ(channel_.counters().echo_regressions, 0u);
+  EXPECT_EQ(channel_.counters().models_taken, 2u);
+  EXPECT_EQ(channel_.counters().last_echo_seq, 50u);
+}
+
+TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZeroForce) {
+  // The same model ever older: received 30, then 70, then 200 ms before the tick.
+  for (const std::int64_t age_ms : {30, 70, 200, 210}) {
+    channel_.Sense(0.0);
+    inbox_.Publish(ContactModel(0, common::SteadyNowNs() - age_ms * kMsNs));
+    channel_.Actuate(inbox_);
+  }
+  EXPECT_EQ(channel_.safety_counters().warnings, 1u);
+  EXPECT_EQ(channel_.safety_counters().fades, 1u);
+  EXPECT_EQ(channel_.safety_counters().disarms, 1u);
+  EXPECT_EQ(channel_.watchdog(), WatchdogState::kDisarmed);
+  EXPECT_EQ(device_.last_force_W_N().norm(), 0.0);
+}
+
+TEST_F(ServoChannelTest, AFreshContactModelPushesTheToolOutOfTheTissue) {
+  channel_.Sense(0.0);
+  inbox_.Publish(ContactModel(0, common::SteadyNowNs()));
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_NEAR(tick.requested_W_N.z(), 1.0, 1e-9);  // 500 N/m * 2 mm
+  EXPECT_NEAR(tick.force_W_N.z(), 0.05, 1e-9);     // first tick: rise limit 50 N/s * 1 ms
+  EXPECT_EQ(device_.last_force_W_N(), tick.force_W_N);
+}
+
+// Row 50: a NaN in any numeric field of a model never reaches the motors as
+// NaN, and never exceeds the clamp; a NaN force is zeroed and counted.
+TEST_F(ServoChannelTest, ANanInAnyModelFieldNeverReachesTheDevice) {
+  const std::vector<std::pair<const char*, std::function<void(core::LocalForceModel&)>>> poisons = {
+      {"anchor", [](auto& m) { m.anchor_W_m.z() = std::nan(""); }},
+      {"normal", [](auto& m) { m.normal_W.z() = std::nan(""); }},
+      {"stiffness", [](auto& m) { m.stiffness_N_per_m = std::nan(""); }},
+      {"damping", [](auto& m) { m.damping_Ns_per_m = std::nan(""); }},
+      {"feedforward", [](auto& m) { m.feedforward_W_N.y() = std::nan(""); }},
+  };
+  for (const auto& [name, poison] : poisons) {
+    SyntheticDevice device{PressedTwoMillimetres()};
+    ServoChannel channel{&device, ChannelConfig{7, 0.001, {}, 1024}};
+    common::LatestValue<ReceivedModel> inbox;
+    std::uint64_t non_finite_requests = 0;
+    for (int tick = 0; tick < 100; ++tick) {  // 100 ms: past the rise limit's ramp
+      channel.Sense(tick * 0.001);
+      ReceivedModel model = ContactModel(0, common::SteadyNowNs());
+      poison(model.model);
+      inbox.Publish(model);
+      if (!channel.Actuate(inbox).requested_W_N.allFinite()) ++non_finite_requests;
+      const Eigen::Vector3d force = device.last_force_W_N();
+      ASSERT_TRUE(force.allFinite()) << name << " tick " << tick;
+      ASSERT_LE(force.norm(), SafetyConfig{}.max_force_N + 1e-12) << name << " tick " << tick;
+    }
+    EXPECT_EQ(channel.safety_counters().non_finite, non_finite_requests) << name;
+    // The feed-forward is added as it is: this poison must reach the safety stage.
+    if (std::string(name) == "feedforward") {
+      EXPECT_EQ(non_finite_requests, 100u);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hapsim::bridge

@@ -1,0 +1,214 @@
+// Session ticks driven by hand (no pool, synthetic clock): the tick allocates
+// nothing, replaying its TickInputs reaches the same state hash, one device
+// owns a session, deadlines follow the device, lateness is counted.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "core/allocation_counter.h"
+#include "hapsim/runtime/session.h"
+
+namespace hapsim::service {
+namespace {
+
+constexpr std::int64_t kT0Ns = 1'000'000'000'000;  // synthetic steady clock origin
+constexpr std::int64_t kPeriodNs = 1'000'000;      // 1 kHz
+
+struct CapturedModels {
+  std::uint64_t count = 0;
+  ForceModelMessage last{};
+};
+
+// An in-memory port: keeps the newest force model.
+class CapturingPort : public SessionPort {
+ public:
+  explicit CapturingPort(CapturedModels* models) : models_(models) {}
+  bool WriteForceModel(const ForceModelMessage& m) override {
+    ++models_->count;
+    models_->last = m;
+    return true;
+  }
+
+ private:
+  CapturedModels* models_;
+};
+
+std::unique_ptr<Session> MakeSession(const std::string& scene, CapturedModels* models) {
+  SessionConfig config;
+  config.id = "tick-test";
+  config.scene = scene;
+  return std::make_unique<Session>(config, core::MakeScene({scene, {}}), std::make_shared<CapturingPort>(models));
+}
+
+// A needle above the centre moving down 1 µm per tick from 2 mm above z = 0.
+PoseSample PressingPose(std::uint64_t seq, std::uint32_t device, std::int64_t now_ns) {
+  PoseSample p;
+  p.tool.valid = true;
+  p.tool.tip_W_m = Eigen::Vector3d(0.001, -0.002, 0.002 - 1e-6 * static_cast<double>(seq));
+  p.tool.velocity_W_m_per_s = Eigen::Vector3d(0, 0, -1e-3);
+  p.device_id = device;
+  p.seq = seq;
+  p.received_ns = now_ns;
+  return p;
+}
+
+class EveryScene : public ::testing::TestWithParam<std::string> {};
+
+std::vector<std::string> SceneNames() {
+  std::vector<std::string> names;
+  for (const auto& scene : core::SceneCatalog()) names.push_back(scene.name);
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Catalogue, EveryScene, ::testing::ValuesIn(SceneNames()),
+                         [](const auto& test_info) { return test_info.param; });
+
+TEST_P(EveryScene, TheTickAllocatesNothingWhilePressingAndPublishingSnapshots) {
+  CapturedModels models;
+  auto session = MakeSession(GetParam(), &models);
+  std::shared_ptr<const SceneSnapshot> snapshot;
+  std::int64_t now = kT0Ns;
+  std::uint64_t seq = 0;
+  auto tick = [&] {
+    session->OfferPose(PressingPose(seq++, 1, now));
+    session->RunTick(now, now);
+    session->TakeSnapshot(&snapshot);  // as the frame pump does: it holds the newest
+    now += kPeriodNs;
+  };
+  for (int i = 0; i < 200; ++i) tick();  // warm-up: contact begins, topology arrays shared once
+  std::uint64_t allocations = 0;
+  {
+    hapsim::test::ScopedAllocationCount counting;
+    for (int i = 0; i < 2000; ++i) tick();
+    allocations = counting.Count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(models.count, 2200u);
+  EXPECT_EQ(session->counters().tick.snapshots_skipped.load(), 0u);
+  EXPECT_GT(session->counters().tick.peak_tool_force_N.load(), 0.0);  // the needle really pressed
+}
+
+TEST_P(EveryScene, ReplayingTheRecordedTickInputsReachesTheSameStateHash) {
+  CapturedModels models;
+  auto session = MakeSession(GetParam(), &models);
+  std::vector<TickInput> recorded;
+  recorded.reserve(4000);
+  session->SetTickObserver([&recorded](const TickInput& in) { recorded.push_back(in); });
+  std::int64_t now = kT0Ns;
+  std::uint64_t seq = 0;
+  for (int i = 0; i < 3000; ++i) {
+    // Poses at an irregular cadence (every 1-3 ticks), a pause, a reset, a
+    // device that goes quiet past the pose timeout.
+    if (i % 3 != 2 && (i < 2200 || i > 2600)) session->OfferPose(PressingPose(seq++, 4, now));
+    if (i == 900) session->RequestPause(true);
+    if (i == 1000) session->RequestPause(false);
+    if (i == 1500) session->RequestReset();
+    session->RunTick(now, now);
+    now += kPeriodNs;
+  }
+  ASSERT_EQ(recorded.size(), 3000u);
+  auto replica = core::MakeScene({GetParam(), {}});
+  const std::uint64_t fresh_hash = replica->StateHash();
+  for (const auto& in : recorded) StepScene(*replica, in, session->config().tick_period_s);
+  EXPECT_EQ(replica->StateHash(), session->scene().StateHash());
+  EXPECT_NE(replica->StateHash(), fresh_hash);
+  EXPECT_DOUBLE_EQ(replica->SimTime_s(), session->scene().SimTime_s());
+}
+
+TEST(SessionTick, ASecondDeviceCannotDriveAnOwnedSession) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  for (std::uint64_t seq = 0; seq < 50; ++seq) {
+    ASSERT_EQ(session->OfferPose(PressingPose(seq, 1, now)), PoseVerdict::kAccepted);
+    auto intruder = PressingPose(1000 + seq, 2, now);
+    intruder.tool.tip_W_m.z() = -0.01;  // would press 1 cm deep
+    EXPECT_EQ(session->OfferPose(intruder), PoseVerdict::kOtherDevice);
+    session->RunTick(now, now);
+    now += kPeriodNs;
+  }
+  EXPECT_EQ(session->counters().poses.from_other_devices.load(), 50u);
+  EXPECT_EQ(session->counters().poses.received.load(), 50u);
+  EXPECT_EQ(models.last.device_id, 1u);
+  EXPECT_EQ(models.last.echo_pose_seq, 49u);
+  EXPECT_EQ(session->counters().tick.owning_device_id.load(), 1u);
+}
+
+TEST(SessionTick, AStaleOrDuplicatePoseFromTheOwnerMovesNothingAndIsCounted) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  ASSERT_EQ(session->OfferPose(PressingPose(10, 1, now)), PoseVerdict::kAccepted);
+  session->RunTick(now, now);
+  now += kPeriodNs;
+  auto late = PressingPose(9, 1, now);  // overtaken by seq 10: must not pull the tool back
+  late.tool.tip_W_m.z() = -0.01;
+  EXPECT_EQ(session->OfferPose(late), PoseVerdict::kStale);
+  EXPECT_EQ(session->OfferPose(PressingPose(10, 1, now)), PoseVerdict::kStale);  // duplicate
+  session->RunTick(now, now);
+  EXPECT_EQ(models.last.echo_pose_seq, 10u);
+  EXPECT_EQ(session->counters().poses.stale.load(), 2u);
+  EXPECT_EQ(session->counters().poses.received.load(), 1u);
+}
+
+TEST(SessionTick, NoForceModelOnceThePoseIsOlderThanTheTimeout) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  const std::int64_t timeout_ns = static_cast<std::int64_t>(session->config().pose_timeout_s * 1e9);
+  session->OfferPose(PressingPose(0, 1, kT0Ns));
+  session->RunTick(kT0Ns, kT0Ns);
+  EXPECT_EQ(models.count, 1u);
+  EXPECT_TRUE(session->counters().tick.device_streaming.load());
+  session->RunTick(kT0Ns + timeout_ns, kT0Ns + timeout_ns);  // exactly at the timeout: still present
+  EXPECT_EQ(models.count, 2u);
+  session->RunTick(kT0Ns + timeout_ns + 1, kT0Ns + timeout_ns + 1);
+  EXPECT_EQ(models.count, 2u);
+  EXPECT_FALSE(session->counters().tick.device_streaming.load());
+}
+
+TEST(SessionTick, TheDeviceClocksTheSessionAndTheTimerOnlyCoversALatePose) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  const std::int64_t slack_ns = static_cast<std::int64_t>(session->config().pose_slack_s * 1e9);
+  // No device: the next tick is the next point of the shared 1 kHz grid.
+  const std::int64_t due0 = kT0Ns + 123'456;
+  EXPECT_EQ(session->RunTick(due0, due0), kT0Ns + kPeriodNs);
+  // A pose ticks the session; the timer waits one period plus the slack.
+  const std::int64_t arrival = kT0Ns + 1'500'000;
+  session->OfferPose(PressingPose(0, 1, arrival));
+  const std::int64_t due1 = session->PoseDueNs(arrival);
+  EXPECT_EQ(due1, arrival);  // the previous tick started more than half a period ago
+  const std::int64_t timer = session->RunTick(due1, due1);
+  EXPECT_EQ(timer, arrival + kPeriodNs + slack_ns);
+  // The pose was late: the timer tick reuses it and keeps the period.
+  EXPECT_EQ(session->RunTick(timer, timer), timer + kPeriodNs);
+  // A device faster than the tick rate cannot speed sim time up.
+  EXPECT_EQ(session->PoseDueNs(timer + 100'000), timer + kPeriodNs / 2);
+  EXPECT_EQ(session->counters().tick.device_clocked_ticks.load(), 1u);
+}
+
+TEST(SessionTick, ATickStartedMoreThanOnePeriodAfterItWasDueIsLate) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  session->RunTick(kT0Ns, kT0Ns + kPeriodNs);  // exactly one period: not late
+  EXPECT_EQ(session->counters().tick.late_ticks.load(), 0u);
+  session->RunTick(kT0Ns + kPeriodNs, kT0Ns + 3 * kPeriodNs);
+  EXPECT_EQ(session->counters().tick.late_ticks.load(), 1u);
+  EXPECT_EQ(session->counters().tick.max_lateness_ns.load(), 2 * kPeriodNs);
+  EXPECT_EQ(session->counters().tick.ticks.load(), 2u);
+}
+
+TEST(SessionTick, SimTimeAdvancesOnePeriodPerTickWhateverTheWallClock) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  for (int i = 0; i < 100; ++i) {
+    session->RunTick(now, now);
+    now += (i % 2 ? 3 : 1) * kPeriodNs / 2;  // irregular wall-clock spacing
+  }
+  EXPECT_NEAR(session->scene().SimTime_s(), 0.1, 1e-12);
+}
+
+}  // namespace
+}  // namespace hapsim::service
