@@ -5,14 +5,13 @@
 // cutting cases: a frame carrying one cutting tick's topology edits (tens
 // of triangles) against a plain delta and a keyframe of the same mesh.
 //   build/bin/bench_frame_encoder --benchmark_min_time=0.2
-#include "hapsim/streaming/frame_encoder.h"
+#include <random>
 
 #include <benchmark/benchmark.h>
 
-#include <random>
-
 #include "hapsim/core/mesh/mesh_topology.h"
 #include "hapsim/runtime/snapshot_ring.h"
+#include "hapsim/streaming/frame_encoder.h"
 
 namespace {
 

@@ -38,6 +38,9 @@ double SignedArea2D(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return 0.5 * Cross2D((b - a).head<2>(), (c - a).head<2>());
 }
 
+// The incision curve's end parameter (its segment count).
+double CurveEndParam(const IncisionCurve& curve) { return static_cast<double>(curve.Segments()); }
+
 }  // namespace
 
 CutStats& CutStats::operator+=(const CutStats& o) {
@@ -104,35 +107,59 @@ bool SkinCutter::SegmentCrossesZone(const Eigen::Vector3d& a, const Eigen::Vecto
 // Walks the hole's border (next_) into chains, matches each border node to
 // the curve (stage 3) and decides its wound node (lips_).
 bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
+  lips_.clear();
+  if (!WalkBorderChains()) return false;
+  MatchBorderToCurve(skin, curve);
+  if (chain_closed_.size() == 1 && chain_closed_[0] != 0) StartLoopAtCurveStart();  // the hole is one loop
+  KeepMatchesFromFolding(CurveEndParam(curve));
+  PlaceCurveLips(skin, curve);
+  CollectSharedParams(skin, curve);
+  left_lips_.assign(params_.size(), kNoSlot);
+  right_lips_.assign(params_.size(), kNoSlot);
+  // Chain by chain: a later chain's old lip may take over a shared
+  // parameter an earlier chain's side node made a wound node at.
+  for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
+    AssignOldLipSides(c, CurveEndParam(curve));
+    LinkSideNodes(curve, c);
+  }
+  return true;
+}
+
+// Appends the chain from start along next_ to chain_; false if a loop does
+// not come back to its start.
+bool SkinCutter::WalkChain(std::uint32_t start, bool closed) {
+  chain_start_.push_back(static_cast<std::uint32_t>(chain_.size()));
+  chain_closed_.push_back(closed ? 1 : 0);
+  std::uint32_t v = start;
+  std::size_t guard = 0;
+  do {
+    chain_.push_back({v, 0.0, 0, 0});
+    has_prev_[v] = 2;  // visited
+    v = next_[v];
+  } while (v != kNoSlot && v != start && has_prev_[v] != 2 && ++guard < next_.size());
+  return !closed || v == start;
+}
+
+// Chains: open ones start at a border node nothing leads to; the rest are
+// loops. False for a hole one ladder of triangles cannot fill.
+bool SkinCutter::WalkBorderChains() {
   chain_.clear();
   chain_start_.clear();
   chain_closed_.clear();
-  lips_.clear();
-  const int k = curve.Segments() - 1;
-  const double end_s = static_cast<double>(k + 1);
-  // Chains: open ones start at a border node nothing leads to; the rest are loops.
-  auto walk = [&](std::uint32_t start, bool closed) {
-    chain_start_.push_back(static_cast<std::uint32_t>(chain_.size()));
-    chain_closed_.push_back(closed ? 1 : 0);
-    std::uint32_t v = start;
-    std::size_t guard = 0;
-    do {
-      chain_.push_back({v, 0.0, 0, 0});
-      has_prev_[v] = 2;  // visited
-      v = next_[v];
-    } while (v != kNoSlot && v != start && has_prev_[v] != 2 && ++guard < next_.size());
-    return !closed || v == start;
-  };
   for (const std::uint32_t b : border_nodes_)
-    if (has_prev_[b] == 0 && !walk(b, false)) return false;
+    if (has_prev_[b] == 0 && !WalkChain(b, false)) return false;
   for (const std::uint32_t b : border_nodes_)
-    if (has_prev_[b] == 1 && !walk(b, true)) return false;
+    if (has_prev_[b] == 1 && !WalkChain(b, true)) return false;
   chain_start_.push_back(static_cast<std::uint32_t>(chain_.size()));
   std::size_t loops = 0;
   for (const auto c : chain_closed_) loops += c;
-  if (loops > 1 || (loops == 1 && chain_closed_.size() > 1)) return false;  // a hole we cannot fill with one ladder
+  return !(loops > 1 || (loops == 1 && chain_closed_.size() > 1));
+}
 
-  // Stage 3: match every border node to the curve.
+// Stage 3: every border node matched to the curve (parameter and side).
+void SkinCutter::MatchBorderToCurve(const SkinMesh& skin, const IncisionCurve& curve) {
+  const int k = curve.Segments() - 1;
+  const double end_s = CurveEndParam(curve);
   for (ChainNode& c : chain_) {
     const Eigen::Vector3d& p = skin.model.x0_m.col(c.node);
     const IncisionCurve::Projection proj = curve.Project(p.head<2>(), std::max(0, k - 3), k);
@@ -149,25 +176,29 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
       c.side = proj.side != 0 ? proj.side : 1;
     }
   }
-  // A loop (the hole holds the incision's start) starts at a node matched
-  // to the curve's start, so the walk (hole on its right: clockwise) runs up the
-  // left lip, round the end and back down the right lip.
-  if (loops == 1) {
-    const auto n = chain_.size();
-    std::size_t start = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (chain_[i].side == 0 && chain_[i].s == 0.0) {
-        start = i;
-        break;
-      }
+}
+
+// A loop (the hole holds the incision's start) starts at a node matched
+// to the curve's start, so the walk (hole on its right: clockwise) runs up the
+// left lip, round the end and back down the right lip.
+void SkinCutter::StartLoopAtCurveStart() {
+  const auto n = chain_.size();
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (chain_[i].side == 0 && chain_[i].s == 0.0) {
+      start = i;
+      break;
     }
-    std::rotate(chain_.begin(), chain_.begin() + static_cast<std::ptrdiff_t>(start), chain_.end());
   }
-  // Matches must not fold back: along the walk the left lip's parameter
-  // only grows, the right lip's only shrinks, and neither passes a border
-  // node already on the curve (an old lip) next to it — a folding match
-  // shares its neighbour's wound node instead. Forward for the left side,
-  // backward for the right.
+  std::rotate(chain_.begin(), chain_.begin() + static_cast<std::ptrdiff_t>(start), chain_.end());
+}
+
+// Matches must not fold back: along the walk the left lip's parameter
+// only grows, the right lip's only shrinks, and neither passes a border
+// node already on the curve (an old lip) next to it — a folding match
+// shares its neighbour's wound node instead. Forward for the left side,
+// backward for the right.
+void SkinCutter::KeepMatchesFromFolding(double end_s) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
     double run = -kInf;
@@ -183,10 +214,14 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
       if (n.side < 0) run = n.s = std::max(n.s, run);
     }
   }
-  // Wound nodes: one shared end node; one shared start node (the old one
-  // if it is on the hole's border, a new one if the hole swallowed it or
-  // this is the first segment); a border node on the curve is its own; then
-  // one per distinct match on each side, unless it falls on a neighbour's.
+}
+
+// Wound nodes: one shared end node; one shared start node (the old one
+// if it is on the hole's border, a new one if the hole swallowed it or
+// this is the first segment); a border node on the curve is its own. Side
+// nodes get theirs later (LinkSideNodes).
+void SkinCutter::PlaceCurveLips(const SkinMesh& skin, const IncisionCurve& curve) {
+  const double end_s = CurveEndParam(curve);
   std::uint32_t end_lip = kNoSlot, start_lip = kNoSlot;
   for (std::uint32_t i = 0; i < chain_.size(); ++i) {
     ChainNode& n = chain_[i];
@@ -221,19 +256,30 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
       lips_.push_back({skin.model.x0_m.col(n.node), i, n.node});
     }
   }
-  // Side nodes: the matches of both sides form one sorted set of curve
-  // parameters, and each side gets a wound node at every one of them — the
-  // two lips then pass through the same curve points and close exactly at
-  // rest, however the curve bends. A match equal to a neighbouring old
-  // lip's parameter is that lip.
+}
+
+bool SkinCutter::IsOwnLip(const ChainNode& n) const { return n.lip != kNoSlot && lips_[n.lip].node == n.node; }
+
+// Side nodes: the matches of both sides form one sorted set of curve
+// parameters (params_), and each side gets a wound node at every one of
+// them — the two lips then pass through the same curve points and close
+// exactly at rest, however the curve bends. A match equal to a
+// neighbouring old lip's parameter is that lip.
+void SkinCutter::CollectSharedParams(const SkinMesh& skin, const IncisionCurve& curve) {
+  const double end_s = CurveEndParam(curve);
   // (Old lips count as matches too: the other side gets a node there.)
   params_.clear();
   for (const ChainNode& n : chain_)
-    if (n.side != 0 || (n.lip != kNoSlot && lips_[n.lip].node == n.node && n.s > 0.0 && n.s < end_s)) params_.push_back(n.s);
+    if (n.side != 0 || (IsOwnLip(n) && n.s > 0.0 && n.s < end_s)) params_.push_back(n.s);
   std::sort(params_.begin(), params_.end());
-  // Matches closer than a third of a spacing along the curve share one wound
-  // node (else the quadrilaterals between them are slivers); old lips keep
-  // theirs. Every side match then snaps to its shared parameter.
+  MergeCloseParams(skin, curve);
+  SnapSideMatches();
+}
+
+// Matches closer than a third of a spacing along the curve share one wound
+// node (else the quadrilaterals between them are slivers); old lips keep
+// theirs.
+void SkinCutter::MergeCloseParams(const SkinMesh& skin, const IncisionCurve& curve) {
   const double merge_m = skin.def.spacing_m / 3.0;
   auto arc_gap = [&](double a, double b) {
     const int seg = std::clamp(static_cast<int>(a), 0, curve.Segments() - 1);
@@ -242,7 +288,7 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
   };
   auto is_old_lip = [&](double v) {
     for (const ChainNode& n : chain_)
-      if (n.side == 0 && n.lip != kNoSlot && lips_[n.lip].node == n.node && std::abs(n.s - v) < 1e-12) return true;
+      if (n.side == 0 && IsOwnLip(n) && std::abs(n.s - v) < 1e-12) return true;
     return false;
   };
   std::size_t kept = 0;
@@ -251,6 +297,10 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
     params_[kept++] = params_[m];
   }
   params_.resize(kept);
+}
+
+// Every side match snaps to its nearest shared parameter.
+void SkinCutter::SnapSideMatches() {
   for (ChainNode& n : chain_) {
     if (n.side == 0 || params_.empty()) continue;
     const auto it = std::lower_bound(params_.begin(), params_.end(), n.s);
@@ -258,44 +308,50 @@ bool SkinCutter::PlanChains(const SkinMesh& skin, const IncisionCurve& curve) {
     if (it != params_.begin() && (it == params_.end() || n.s - *(it - 1) < *it - n.s)) snapped = *(it - 1);
     n.s = snapped;
   }
-  left_lips_.assign(params_.size(), kNoSlot);
-  right_lips_.assign(params_.size(), kNoSlot);
-  for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
-    const std::uint32_t first_i = chain_start_[c], last_i = chain_start_[c + 1], len = last_i - first_i;
-    const bool closed = chain_closed_[c] != 0;
-    auto neighbour = [&](std::uint32_t i, int step) -> const ChainNode* {
-      const std::uint32_t local = i - first_i;
-      if (!closed && ((step < 0 && local == 0) || (step > 0 && local + 1 == len))) return nullptr;
-      return &chain_[first_i + (local + len + static_cast<std::uint32_t>(len + step)) % len];
-    };
-    // An old lip sits on the side of the border nodes next to it.
-    for (std::uint32_t i = first_i; i < last_i; ++i) {
-      const ChainNode& n = chain_[i];
-      if (n.side != 0 || n.lip == kNoSlot || lips_[n.lip].node != n.node || !(n.s > 0.0 && n.s < end_s)) continue;
-      int side = 0;
-      for (const int step : {1, -1}) {
-        const ChainNode* m = neighbour(i, step);
-        if (m && m->side != 0) {
-          side = m->side;
-          break;
-        }
+}
+
+// The border node step places along chain c from chain entry i (-1 back,
+// +1 on); nullptr past an open chain's ends.
+const SkinCutter::ChainNode* SkinCutter::ChainNeighbour(std::size_t c, std::uint32_t i, int step) const {
+  const std::uint32_t first_i = chain_start_[c], len = chain_start_[c + 1] - first_i;
+  const std::uint32_t local = i - first_i;
+  if (chain_closed_[c] == 0 && ((step < 0 && local == 0) || (step > 0 && local + 1 == len))) return nullptr;
+  return &chain_[first_i + (local + len + static_cast<std::uint32_t>(len + step)) % len];
+}
+
+// An old lip in chain c sits on the side of the border nodes next to it:
+// it is that side's wound node at its parameter.
+void SkinCutter::AssignOldLipSides(std::size_t c, double end_s) {
+  for (std::uint32_t i = chain_start_[c]; i < chain_start_[c + 1]; ++i) {
+    const ChainNode& n = chain_[i];
+    if (n.side != 0 || !IsOwnLip(n) || !(n.s > 0.0 && n.s < end_s)) continue;
+    int side = 0;
+    for (const int step : {1, -1}) {
+      const ChainNode* m = ChainNeighbour(c, i, step);
+      if (m && m->side != 0) {
+        side = m->side;
+        break;
       }
-      if (side != 0) (side > 0 ? left_lips_ : right_lips_)[ParamIndex(n.s)] = n.lip;
     }
-    for (std::uint32_t i = first_i; i < last_i; ++i) {
-      ChainNode& n = chain_[i];
-      if (n.side == 0) continue;
-      for (const int step : {-1, 1}) {
-        const ChainNode* m = neighbour(i, step);
-        if (m && m->side == 0 && m->lip != kNoSlot && lips_[m->lip].node == m->node && std::abs(m->s - n.s) < 1e-12) {
-          n.lip = m->lip;
-          break;
-        }
-      }
-      if (n.lip == kNoSlot) n.lip = SideLip(curve, n.side, ParamIndex(n.s), i);
-    }
+    if (side != 0) (side > 0 ? left_lips_ : right_lips_)[ParamIndex(n.s)] = n.lip;
   }
-  return true;
+}
+
+// Each side node of chain c takes a neighbouring old lip at its parameter,
+// else its side's wound node there (made on first use).
+void SkinCutter::LinkSideNodes(const IncisionCurve& curve, std::size_t c) {
+  for (std::uint32_t i = chain_start_[c]; i < chain_start_[c + 1]; ++i) {
+    ChainNode& n = chain_[i];
+    if (n.side == 0) continue;
+    for (const int step : {-1, 1}) {
+      const ChainNode* m = ChainNeighbour(c, i, step);
+      if (m && m->side == 0 && IsOwnLip(*m) && std::abs(m->s - n.s) < 1e-12) {
+        n.lip = m->lip;
+        break;
+      }
+    }
+    if (n.lip == kNoSlot) n.lip = SideLip(curve, n.side, ParamIndex(n.s), i);
+  }
 }
 
 std::size_t SkinCutter::ParamIndex(double s) const {
@@ -322,13 +378,6 @@ std::uint32_t SkinCutter::SideLip(const IncisionCurve& curve, int side, std::siz
 void SkinCutter::PlanTriangles(const SkinMesh& skin, const IncisionCurve& curve) {
   new_triangles_.clear();
   planned_skips_ = 0;
-  auto entry = [&](std::uint32_t lip) { return lips_[lip].node != kNoSlot ? lips_[lip].node : (kLipFlag | lip); };
-  auto rest = [&](std::uint32_t e) -> Eigen::Vector3d {
-    return (e & kLipFlag) ? lips_[e & ~kLipFlag].rest_m : Eigen::Vector3d(skin.model.x0_m.col(e));
-  };
-  auto emit = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    if (x != y && y != z && x != z) new_triangles_.push_back({x, y, z});
-  };
   for (std::size_t c = 0; c + 1 < chain_start_.size(); ++c) {
     const std::uint32_t first = chain_start_[c], last = chain_start_[c + 1];
     const std::uint32_t pairs = (last - first) - (chain_closed_[c] ? 0 : 1);
@@ -337,87 +386,139 @@ void SkinCutter::PlanTriangles(const SkinMesh& skin, const IncisionCurve& curve)
       const ChainNode& a = chain_[ia];
       const ChainNode& b = chain_[ib];
       if (a.side != 0 && b.side != 0 && a.side != b.side) continue;  // would bridge the wound: leave it open
-      // The run of wound nodes from a's to b's.
-      run_.clear();
-      run_.push_back(entry(a.lip));
-      const int side = a.side != 0 ? a.side : b.side;
-      if (side != 0) {
-        const double lo = std::min(a.s, b.s), hi = std::max(a.s, b.s);
-        for (std::size_t m = 0; m < params_.size(); ++m) {
-          const std::size_t k = side > 0 ? m : params_.size() - 1 - m;  // the left run climbs, the right descends
-          if (params_[k] > lo + 1e-12 && params_[k] < hi - 1e-12) run_.push_back(entry(SideLip(curve, side, k, ia)));
-        }
-      }
-      run_.push_back(entry(b.lip));
-      // Zip: polygon b, a, run[0..n], counter-clockwise. From a the run is
-      // followed while the shorter diagonal says so; then b fans over the
-      // rest. A step is taken only if its triangles keep a positive area
-      // (on a bending curve the shorter diagonal can fold the fan).
-      const std::size_t n = run_.size() - 1;
-      // Sound: a positive area and no other border node inside (a notch in
-      // the hole's border must not be covered) — repeats make no triangle.
-      auto ok = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-        if (x == y || y == z || x == z) return true;
-        const Eigen::Vector3d px = rest(x), py = rest(y), pz = rest(z);
-        if (!(SignedArea2D(px, py, pz) > 0.0)) return false;
-        for (const ChainNode& other : chain_) {
-          if (other.node == x || other.node == y || other.node == z) continue;
-          const Eigen::Vector3d q = skin.model.x0_m.col(other.node);
-          if (SignedArea2D(px, py, q) > 0.0 && SignedArea2D(py, pz, q) > 0.0 && SignedArea2D(pz, px, q) > 0.0) return false;
-        }
-        return true;
-      };
-      fan_ok_.assign(n + 1, 1);  // fan_ok_[j]: b's fan over run[j..n] keeps a positive area
-      for (std::size_t j = n; j-- > 0;) fan_ok_[j] = fan_ok_[j + 1] && ok(b.node, run_[j], run_[j + 1]);
-      std::size_t j = 0;
-      while (j < n) {
-        const bool advance = ok(a.node, run_[j], run_[j + 1]);
-        const bool turn = ok(b.node, a.node, run_[j]) && fan_ok_[j];
-        const bool shorter = (rest(a.node) - rest(run_[j + 1])).squaredNorm() <= (rest(b.node) - rest(run_[j])).squaredNorm();
-        if (advance && (!turn || shorter)) {
-          emit(a.node, run_[j], run_[j + 1]);
-          ++j;
-        } else {
-          break;  // b takes over (if neither step is sound, the check below drops what folds)
-        }
-      }
-      // What is not sound is left open (counted): a gap, never an overlap.
-      auto emit_sound = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-        if (ok(x, y, z)) {
-          emit(x, y, z);
-        } else {
-          ++planned_skips_;
-        }
-      };
-      emit_sound(b.node, a.node, run_[j]);
-      for (; j < n; ++j) emit_sound(b.node, run_[j], run_[j + 1]);
+      CollectRun(curve, a, b, ia);
+      ZipPairToRun(skin, a, b);
     }
   }
-  // Drop what would be inverted or degenerate at rest (counted by the caller).
+  DropDegenerateTriangles(skin);
+}
+
+std::uint32_t SkinCutter::LipEntry(std::uint32_t lip) const {
+  return lips_[lip].node != kNoSlot ? lips_[lip].node : (kLipFlag | lip);
+}
+
+Eigen::Vector3d SkinCutter::RestOf(const SkinMesh& skin, std::uint32_t entry) const {
+  return (entry & kLipFlag) ? lips_[entry & ~kLipFlag].rest_m : Eigen::Vector3d(skin.model.x0_m.col(entry));
+}
+
+// The run of wound nodes from a's to b's (run_): their own, and between them
+// every shared parameter strictly inside their matches, on their side.
+void SkinCutter::CollectRun(const IncisionCurve& curve, const ChainNode& a, const ChainNode& b, std::uint32_t ia) {
+  run_.clear();
+  run_.push_back(LipEntry(a.lip));
+  const int side = a.side != 0 ? a.side : b.side;
+  if (side != 0) {
+    const double lo = std::min(a.s, b.s), hi = std::max(a.s, b.s);
+    for (std::size_t m = 0; m < params_.size(); ++m) {
+      const std::size_t k = side > 0 ? m : params_.size() - 1 - m;  // the left run climbs, the right descends
+      if (params_[k] > lo + 1e-12 && params_[k] < hi - 1e-12) run_.push_back(LipEntry(SideLip(curve, side, k, ia)));
+    }
+  }
+  run_.push_back(LipEntry(b.lip));
+}
+
+// Sound: a positive area and no other border node inside (a notch in the
+// hole's border must not be covered) — repeats make no triangle.
+bool SkinCutter::SoundTriangle(const SkinMesh& skin, std::uint32_t x, std::uint32_t y, std::uint32_t z) const {
+  if (x == y || y == z || x == z) return true;
+  const Eigen::Vector3d px = RestOf(skin, x), py = RestOf(skin, y), pz = RestOf(skin, z);
+  if (!(SignedArea2D(px, py, pz) > 0.0)) return false;
+  for (const ChainNode& other : chain_) {
+    if (other.node == x || other.node == y || other.node == z) continue;
+    const Eigen::Vector3d q = skin.model.x0_m.col(other.node);
+    if (SignedArea2D(px, py, q) > 0.0 && SignedArea2D(py, pz, q) > 0.0 && SignedArea2D(pz, px, q) > 0.0) return false;
+  }
+  return true;
+}
+
+void SkinCutter::EmitTriangle(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+  if (x != y && y != z && x != z) new_triangles_.push_back({x, y, z});
+}
+
+// Zip: polygon b, a, run[0..n], counter-clockwise. From a the run is
+// followed while the shorter diagonal says so; then b fans over the rest.
+// A step is taken only if its triangles keep a positive area (on a bending
+// curve the shorter diagonal can fold the fan).
+void SkinCutter::ZipPairToRun(const SkinMesh& skin, const ChainNode& a, const ChainNode& b) {
+  const std::size_t n = run_.size() - 1;
+  fan_ok_.assign(n + 1, 1);  // fan_ok_[j]: b's fan over run[j..n] keeps a positive area
+  for (std::size_t j = n; j-- > 0;) fan_ok_[j] = fan_ok_[j + 1] && SoundTriangle(skin, b.node, run_[j], run_[j + 1]);
+  std::size_t j = 0;
+  while (j < n) {
+    const bool advance = SoundTriangle(skin, a.node, run_[j], run_[j + 1]);
+    const bool turn = SoundTriangle(skin, b.node, a.node, run_[j]) && fan_ok_[j];
+    const bool shorter = (RestOf(skin, a.node) - RestOf(skin, run_[j + 1])).squaredNorm() <=
+                         (RestOf(skin, b.node) - RestOf(skin, run_[j])).squaredNorm();
+    if (advance && (!turn || shorter)) {
+      EmitTriangle(a.node, run_[j], run_[j + 1]);
+      ++j;
+    } else {
+      break;  // b takes over (if neither step is sound, the check below drops what folds)
+    }
+  }
+  // What is not sound is left open (counted): a gap, never an overlap.
+  auto emit_sound = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    if (SoundTriangle(skin, x, y, z)) {
+      EmitTriangle(x, y, z);
+    } else {
+      ++planned_skips_;
+    }
+  };
+  emit_sound(b.node, a.node, run_[j]);
+  for (; j < n; ++j) emit_sound(b.node, run_[j], run_[j + 1]);
+}
+
+// Drops what would be inverted or degenerate at rest (counted by the caller).
+void SkinCutter::DropDegenerateTriangles(const SkinMesh& skin) {
   const double min_area = 1e-6 * skin.def.spacing_m * skin.def.spacing_m;
   planned_skips_ += static_cast<std::uint32_t>(std::erase_if(new_triangles_, [&](const Tri& t) {
-    return !(SignedArea2D(rest(t[0]), rest(t[1]), rest(t[2])) > min_area);
+    return !(SignedArea2D(RestOf(skin, t[0]), RestOf(skin, t[1]), RestOf(skin, t[2])) > min_area);
   }));
 }
 
 CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& curve, const CutConfig& config) {
   CutStats st;
   config_ = config;
+  if (curve.Segments() < 1) return st;
+  SampleLastSegment(skin, curve);
+  FindSweptTriangles(skin);
+  if (removed_triangles_.empty()) return st;  // the blade moved through a hole already cut
+  const bool planned = !LinkHoleBorder(skin.topology) && PlanChains(skin, curve);
+  for (auto& c : chain_) has_prev_[c.node] = 0;  // the walk's visited marks
+  if (!planned) return Refused(st);
+  PlanTriangles(skin, curve);
+  st.skipped_triangles = planned_skips_;
+  if (!FitsCapacities(skin)) return Refused(st);
+  // Nothing changed so far; from here the cut is applied whole.
+  touched_.clear();
+  RemoveSweptVolume(skin, st);
+  RemoveSpringsAcrossZone(skin, st);
+  AddWoundTriangles(skin, st);
+  UpdateAroundCut(skin);
+  ClearCutScratch();
+  return st;
+}
+
+// The curve's last segment as a polyline on the rest plane, its box, and
+// how far the distance queries reach.
+void SkinCutter::SampleLastSegment(const SkinMesh& skin, const IncisionCurve& curve) {
   const int k = curve.Segments() - 1;
-  if (k < 0) return st;
-  MeshTopology& topo = skin.topology;
   polyline_.clear();
   for (int i = 0; i < kPolylineSamples; ++i) {
     const Eigen::Vector2d p = BezierPoint(curve.Controls(k), static_cast<double>(i) / (kPolylineSamples - 1));
     polyline_.emplace_back(p.x(), p.y(), 0.0);
   }
-  zone_radius_m_ = config.sweep_radius_m;
+  zone_radius_m_ = config_.sweep_radius_m;
   polyline_lo_ = polyline_hi_ = polyline_.front().head<2>();
   for (const Eigen::Vector3d& p : polyline_)
     polyline_lo_ = polyline_lo_.cwiseMin(p.head<2>()), polyline_hi_ = polyline_hi_.cwiseMax(p.head<2>());
   far_m_ = zone_radius_m_ + 2.5 * skin.def.spacing_m;  // the widest reach any caller asks about
+}
 
-  // Stage 1: the swept volume's nodes and their triangles.
+// Stage 1: the swept volume's nodes (inside_) and their triangles
+// (removed_triangles_, marked in triangle_mark_).
+void SkinCutter::FindSweptTriangles(const SkinMesh& skin) {
+  const MeshTopology& topo = skin.topology;
   inside_.clear();
   for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
     // Skin nodes only (other vertex slots, e.g. a tool's, have no live node).
@@ -431,19 +532,12 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
         triangle_mark_[t] = 1;
         removed_triangles_.push_back(t);
       }
-  auto clean_up = [&] {
-    for (const std::uint32_t t : removed_triangles_) triangle_mark_[t] = 0;
-    for (const std::uint32_t b : border_nodes_) {
-      has_prev_[next_[b]] = 0;
-      has_prev_[b] = 0;
-      next_[b] = kNoSlot;
-    }
-    border_nodes_.clear();
-  };
-  if (removed_triangles_.empty()) return st;  // the blade moved through a hole already cut
+}
 
-  // The hole's border: edges of surviving triangles that faced a removed one,
-  // oriented with the hole on their right (b -> a for a removed a -> b).
+// The hole's border: edges of surviving triangles that faced a removed one,
+// oriented with the hole on their right (b -> a for a removed a -> b), as
+// next_ links. True if the hole touches itself at a node (pinched).
+bool SkinCutter::LinkHoleBorder(const MeshTopology& topo) {
   bool pinched = false;
   for (const std::uint32_t t : removed_triangles_) {
     const auto& tv = topo.TriangleVertices(t);
@@ -457,39 +551,52 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
       has_prev_[a] = 1;
     }
   }
-  if (pinched || !PlanChains(skin, curve)) {
-    for (auto& c : chain_) has_prev_[c.node] = 0;
-    clean_up();
-    st.refused = true;
-    return st;
-  }
-  for (auto& c : chain_) has_prev_[c.node] = 0;
-  PlanTriangles(skin, curve);
-  st.skipped_triangles = planned_skips_;
+  return pinched;
+}
 
-  // Capacities (conservatively, before anything is freed): refuse whole.
+// The scratch marks and border links back to empty for the next cut.
+void SkinCutter::ClearCutScratch() {
+  for (const std::uint32_t t : removed_triangles_) triangle_mark_[t] = 0;
+  for (const std::uint32_t b : border_nodes_) {
+    has_prev_[next_[b]] = 0;
+    has_prev_[b] = 0;
+    next_[b] = kNoSlot;
+  }
+  border_nodes_.clear();
+}
+
+CutStats SkinCutter::Refused(CutStats st) {
+  ClearCutScratch();
+  st.refused = true;
+  return st;
+}
+
+// Capacities, conservatively (before anything is freed): a cut that might
+// not fit is refused whole rather than left half done.
+bool SkinCutter::FitsCapacities(const SkinMesh& skin) const {
+  const MeshTopology& topo = skin.topology;
   std::size_t new_nodes = 0;
   for (const Lip& l : lips_) new_nodes += l.node == kNoSlot;
   const std::size_t free_vertices = topo.Vertices().Capacity() - topo.Vertices().LiveCount();
   const std::size_t free_triangles = topo.Triangles().Capacity() - topo.Triangles().LiveCount() + removed_triangles_.size();
   const std::size_t free_springs = static_cast<std::size_t>(skin.model.spring_capacity - skin.model.NumSprings());
-  if (new_nodes > free_vertices || new_triangles_.size() > free_triangles || 3 * new_triangles_.size() > free_springs) {
-    clean_up();
-    st.refused = true;
-    return st;
-  }
+  return !(new_nodes > free_vertices || new_triangles_.size() > free_triangles ||
+           3 * new_triangles_.size() > free_springs);
+}
 
-  // Apply stage 1: triangles, then the nodes nothing uses any more (their
-  // springs go with them), then springs across the zone between survivors.
-  touched_.clear();
-  auto touch = [&](std::uint32_t v) {
-    if (!touched_mark_[v]) {
-      touched_mark_[v] = 1;
-      touched_.push_back(v);
-    }
-  };
+void SkinCutter::Touch(std::uint32_t v) {
+  if (!touched_mark_[v]) {
+    touched_mark_[v] = 1;
+    touched_.push_back(v);
+  }
+}
+
+// Applies stage 1: the swept triangles, then the nodes nothing uses any
+// more (their springs go with them).
+void SkinCutter::RemoveSweptVolume(SkinMesh& skin, CutStats& st) {
+  MeshTopology& topo = skin.topology;
   for (const std::uint32_t t : removed_triangles_) {
-    for (const std::uint32_t v : topo.TriangleVertices(t)) touch(v);
+    for (const std::uint32_t v : topo.TriangleVertices(t)) Touch(v);
     topo.RemoveTriangle(t);
     ++st.triangles_removed;
   }
@@ -504,9 +611,13 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
   // Before any slot is reused by a new wound node (else a reused slot would
   // be listed twice and its wound faces pulled twice).
   std::erase_if(skin.lip_nodes, [&](std::uint32_t v) { return !topo.Vertices().IsLive(v); });
-  // Springs of nodes near the zone whose rest segment crosses it and that
-  // are not an edge of a surviving triangle (shear and bending springs
-  // across the cut). Spring indices move on removal: look each up again.
+}
+
+// Springs of nodes near the zone whose rest segment crosses it and that
+// are not an edge of a surviving triangle (shear and bending springs
+// across the cut). Spring indices move on removal: look each up again.
+void SkinCutter::RemoveSpringsAcrossZone(SkinMesh& skin, CutStats& st) {
+  const MeshTopology& topo = skin.topology;
   const double reach = far_m_;
   for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v) {
     if (!skin.model.node_live[v] || DistanceToSegment(skin.model.x0_m.col(v)) > reach) continue;
@@ -522,67 +633,79 @@ CutStats SkinCutter::CutAlongLastSegment(SkinMesh& skin, const IncisionCurve& cu
       }
     }
   }
+}
 
-  // Stage 3 applied: wound nodes (rest on the curve; displaced like the
-  // border node they were matched from), triangles, edge springs.
-  // Wound nodes are made when a triangle first uses one (rest on the
-  // curve; displaced like the border node they were matched from).
+// Applies stage 3: the planned triangles, each with its edge springs.
+void SkinCutter::AddWoundTriangles(SkinMesh& skin, CutStats& st) {
   lip_nodes_.assign(lips_.size(), kNoSlot);
-  auto node_of = [&](std::uint32_t e) -> std::uint32_t {
-    if (!(e & kLipFlag)) return e;
-    const std::uint32_t lip = e & ~kLipFlag;
-    if (lip_nodes_[lip] != kNoSlot) return lip_nodes_[lip];
-    const Lip& l = lips_[lip];
-    const std::uint32_t v = topo.AddVertex();  // capacity checked above
-    const std::uint32_t from = chain_[l.from_chain].node;
-    NodeDef def;
-    def.x_W_m = l.rest_m;
-    def.mass_kg = skin.model.mass_kg[static_cast<Eigen::Index>(from)];  // re-lumped below
-    def.damping_Ns_per_m = skin.def.node_damping_Ns_per_m;
-    def.anchor_k_N_per_m = config.wound_anchor_k_N_per_m;
-    ActivateNode(skin.model, skin.state, static_cast<std::int32_t>(v), def);
-    skin.state.x_m.col(v) = skin.state.x_m.col(from) + (l.rest_m - skin.model.x0_m.col(from));
-    skin.state.v_m_per_s.col(v) = skin.state.v_m_per_s.col(from);
-    skin.on_lip[v] = 1;
-    skin.lip_nodes.push_back(v);
-    touch(v);
-    ++st.nodes_added;
-    return lip_nodes_[lip] = v;
-  };
   new_springs_.clear();
   for (Tri t : new_triangles_) {
-    for (auto& e : t) e = node_of(e);
-    if (topo.AddTriangle(t[0], t[1], t[2], kWoundPart) == kNoSlot) {
+    for (auto& e : t) e = WoundNode(skin, e, st);
+    if (skin.topology.AddTriangle(t[0], t[1], t[2], kWoundPart) == kNoSlot) {
       ++st.skipped_triangles;
       continue;
     }
     ++st.triangles_added;
-    for (int e = 0; e < 3; ++e) {
-      const auto a = static_cast<std::int32_t>(t[static_cast<std::size_t>(e)]);
-      const auto b = static_cast<std::int32_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
-      touch(static_cast<std::uint32_t>(a));
-      if (FindSpring(skin.model, a, b) != kNoSpring) continue;
-      const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm() * (1.0 - skin.def.prestrain);
-      if (AddSpring(skin.model, a, b, rest, skin.def.spring_k_N_per_m, skin.def.spring_c_Ns_per_m) != kNoSpring) {
-        new_springs_.push_back({static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)});
-        ++st.springs_added;
-      } else {
-        ++st.springs_refused;
-      }
+    AddEdgeSprings(skin, t, st);
+  }
+}
+
+// The node a planned triangle's entry stands for. A wound node is made when
+// a triangle first uses one: rest on the curve, displaced like the border
+// node it was matched from.
+std::uint32_t SkinCutter::WoundNode(SkinMesh& skin, std::uint32_t entry, CutStats& st) {
+  if (!(entry & kLipFlag)) return entry;
+  const std::uint32_t lip = entry & ~kLipFlag;
+  if (lip_nodes_[lip] != kNoSlot) return lip_nodes_[lip];
+  const Lip& l = lips_[lip];
+  const std::uint32_t v = skin.topology.AddVertex();  // capacity checked (FitsCapacities)
+  const std::uint32_t from = chain_[l.from_chain].node;
+  NodeDef def;
+  def.x_W_m = l.rest_m;
+  def.mass_kg = skin.model.mass_kg[static_cast<Eigen::Index>(from)];  // re-lumped in UpdateAroundCut
+  def.damping_Ns_per_m = skin.def.node_damping_Ns_per_m;
+  def.anchor_k_N_per_m = config_.wound_anchor_k_N_per_m;
+  ActivateNode(skin.model, skin.state, static_cast<std::int32_t>(v), def);
+  skin.state.x_m.col(v) = skin.state.x_m.col(from) + (l.rest_m - skin.model.x0_m.col(from));
+  skin.state.v_m_per_s.col(v) = skin.state.v_m_per_s.col(from);
+  skin.on_lip[v] = 1;
+  skin.lip_nodes.push_back(v);
+  Touch(v);
+  ++st.nodes_added;
+  return lip_nodes_[lip] = v;
+}
+
+// A spring on each edge of a new triangle that has none yet (rest length
+// from the rest plane, pre-strained like the skin's).
+void SkinCutter::AddEdgeSprings(SkinMesh& skin, const Tri& t, CutStats& st) {
+  for (int e = 0; e < 3; ++e) {
+    const auto a = static_cast<std::int32_t>(t[static_cast<std::size_t>(e)]);
+    const auto b = static_cast<std::int32_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
+    Touch(static_cast<std::uint32_t>(a));
+    if (FindSpring(skin.model, a, b) != kNoSpring) continue;
+    const double rest = (skin.model.x0_m.col(a) - skin.model.x0_m.col(b)).norm() * (1.0 - skin.def.prestrain);
+    if (AddSpring(skin.model, a, b, rest, skin.def.spring_k_N_per_m, skin.def.spring_c_Ns_per_m) != kNoSpring) {
+      new_springs_.push_back({static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)});
+      ++st.springs_added;
+    } else {
+      ++st.springs_refused;
     }
   }
+}
+
+// What the cut changed around it: the touched nodes' masses re-lumped, the
+// new springs' stiffness, the wound's edges and the pre-stress hold.
+void SkinCutter::UpdateAroundCut(SkinMesh& skin) {
   for (const std::uint32_t v : touched_) {
-    if (topo.Vertices().IsLive(v)) RelumpNodeMass(skin, v);
+    if (skin.topology.Vertices().IsLive(v)) RelumpNodeMass(skin, v);
     touched_mark_[v] = 0;
   }
   SetNewSpringStiffness(skin);
   RebuildWoundEdges(skin);
   // Every spring this cut removed, added or stiffened had an end within
   // reach of the segment: the pre-stress's hold changed only there.
-  for (std::uint32_t v = 0; v < topo.Vertices().HighWater(); ++v)
+  for (std::uint32_t v = 0; v < skin.topology.Vertices().HighWater(); ++v)
     if (skin.model.node_live[v] && DistanceToSegment(skin.model.x0_m.col(v)) <= far_m_) UpdatePrestressHoldOf(skin, v);
-  clean_up();
-  return st;
 }
 
 // The new triangles replace lattice that had two-apart springs besides its

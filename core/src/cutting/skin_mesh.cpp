@@ -15,27 +15,28 @@ double RestArea(const SkinMesh& s, std::uint32_t t) {
   return 0.5 * (b - a).cross(c - a).z();
 }
 
-}  // namespace
-
-SkinMesh BuildSkinMesh(const SkinDef& d) {
+void CheckSkinDef(const SkinDef& d) {
   if (!(d.spacing_m > 0.0 && d.length_m >= 2 * d.spacing_m && d.width_m >= 2 * d.spacing_m))
     throw std::invalid_argument("skin patch: spacing_m must be > 0 and at most half the patch length and width");
   if (!(d.areal_density_kg_per_m2 > 0.0)) throw std::invalid_argument("skin patch: areal density must be > 0");
   if (!(d.prestrain >= 0.0 && d.prestrain < 0.5))
     throw std::invalid_argument("skin patch: prestrain must be in [0, 0.5)");
-  SkinMesh s;
-  s.def = d;
-  s.nx = static_cast<int>(std::lround(d.length_m / d.spacing_m)) + 1;
-  s.ny = static_cast<int>(std::lround(d.width_m / d.spacing_m)) + 1;
+}
+
+int SkinNode(const SkinMesh& s, int i, int j) { return j * s.nx + i; }
+
+// The lattice as a mass-spring definition: grid edges, both cell diagonals,
+// two-apart bending springs, and every node anchored where it lies; with
+// room for what cuts add.
+MsmDef SkinLatticeDef(const SkinDef& d, const SkinMesh& s) {
   const int n = s.nx * s.ny;
   const double hx = d.length_m / (s.nx - 1), hy = d.width_m / (s.ny - 1);
-  auto node = [&](int i, int j) { return j * s.nx + i; };
-
+  auto node = [&](int i, int j) { return SkinNode(s, i, j); };
   MsmDef m;
   m.x0_m.resize(3, n);
   for (int j = 0; j < s.ny; ++j)
     for (int i = 0; i < s.nx; ++i) m.x0_m.col(node(i, j)) << -0.5 * d.length_m + i * hx, -0.5 * d.width_m + j * hy, 0.0;
-  m.mass_kg = Eigen::VectorXd::Constant(n, 1.0);  // re-lumped below from the triangles
+  m.mass_kg = Eigen::VectorXd::Constant(n, 1.0);  // re-lumped from the triangles once they exist
   m.node_damping_Ns_per_m = Eigen::VectorXd::Constant(n, d.node_damping_Ns_per_m);
   auto spring = [&](int a, int b, double k) {
     m.springs.push_back({a, b});
@@ -62,34 +63,54 @@ SkinMesh BuildSkinMesh(const SkinDef& d) {
   m.spring_capacity = static_cast<std::int32_t>(m.springs.size() + d.extra_springs);
   m.node_capacity = n + static_cast<std::int32_t>(d.extra_vertices);
   m.max_node_degree = d.max_node_degree;
-  s.model = BuildMsmModel(m);
-  s.state = MakeMsmState(s.model);
+  return m;
+}
 
-  const std::uint32_t vcap = static_cast<std::uint32_t>(s.model.num_nodes);
+// The displayed mesh: one vertex slot per node, two triangles per cell,
+// with room for what cuts add.
+void BuildSkinTopology(const SkinDef& d, SkinMesh& s) {
   std::vector<std::string> parts = {"skin", "wound"};
   parts.insert(parts.end(), d.extra_parts.begin(), d.extra_parts.end());
-  s.topology = MeshTopology({.vertex_capacity = vcap,
-                             .triangle_capacity = static_cast<std::uint32_t>(2 * (s.nx - 1) * (s.ny - 1)) + d.extra_triangles,
-                             .part_names = parts,
-                             .log_capacity = 8192,
-                             .max_vertex_triangles = d.max_vertex_triangles});
-  for (int v = 0; v < n; ++v) s.topology.AddVertex();
+  s.topology =
+      MeshTopology({.vertex_capacity = static_cast<std::uint32_t>(s.model.num_nodes),
+                    .triangle_capacity = static_cast<std::uint32_t>(2 * (s.nx - 1) * (s.ny - 1)) + d.extra_triangles,
+                    .part_names = parts,
+                    .log_capacity = 8192,
+                    .max_vertex_triangles = d.max_vertex_triangles});
+  for (int v = 0; v < s.nx * s.ny; ++v) s.topology.AddVertex();
   for (int j = 0; j + 1 < s.ny; ++j)
     for (int i = 0; i + 1 < s.nx; ++i) {
-      const auto a = static_cast<std::uint32_t>(node(i, j)), b = static_cast<std::uint32_t>(node(i + 1, j)),
-                 c = static_cast<std::uint32_t>(node(i + 1, j + 1)), e = static_cast<std::uint32_t>(node(i, j + 1));
+      const auto a = static_cast<std::uint32_t>(SkinNode(s, i, j)),
+                 b = static_cast<std::uint32_t>(SkinNode(s, i + 1, j)),
+                 c = static_cast<std::uint32_t>(SkinNode(s, i + 1, j + 1)),
+                 e = static_cast<std::uint32_t>(SkinNode(s, i, j + 1));
       s.topology.AddTriangle(a, b, c, kSkinPart);  // counter-clockwise seen from +z
       s.topology.AddTriangle(a, c, e, kSkinPart);
     }
   s.topology.Seal();
+}
+
+}  // namespace
+
+SkinMesh BuildSkinMesh(const SkinDef& d) {
+  CheckSkinDef(d);
+  SkinMesh s;
+  s.def = d;
+  s.nx = static_cast<int>(std::lround(d.length_m / d.spacing_m)) + 1;
+  s.ny = static_cast<int>(std::lround(d.width_m / d.spacing_m)) + 1;
+  s.model = BuildMsmModel(SkinLatticeDef(d, s));
+  s.state = MakeMsmState(s.model);
+  BuildSkinTopology(d, s);
+  const auto vcap = static_cast<std::uint32_t>(s.model.num_nodes);
   s.on_border.assign(vcap, 0);
   s.on_lip.assign(vcap, 0);
   for (int j = 0; j < s.ny; ++j)
     for (int i = 0; i < s.nx; ++i)
-      s.on_border[static_cast<std::size_t>(node(i, j))] = (i == 0 || j == 0 || i == s.nx - 1 || j == s.ny - 1);
+      s.on_border[static_cast<std::size_t>(SkinNode(s, i, j))] = (i == 0 || j == 0 || i == s.nx - 1 || j == s.ny - 1);
   s.lip_nodes.reserve(vcap);
   s.wound_edges.reserve(static_cast<std::size_t>(vcap) * 2);
-  for (int v = 0; v < n; ++v) RelumpNodeMass(s, static_cast<std::uint32_t>(v));
+  // Masses from the triangles' rest areas (density x area / 3 per corner).
+  for (int v = 0; v < s.nx * s.ny; ++v) RelumpNodeMass(s, static_cast<std::uint32_t>(v));
   s.hold_N = Eigen::Matrix3Xd::Zero(3, s.model.num_nodes);
   UpdatePrestressHold(s);
   return s;

@@ -25,9 +25,11 @@ void CheckCoefficient(double value, const char* field, std::size_t index) {
          " must be finite and >= 0");
 }
 
-}  // namespace
+// BuildMsmModel's steps, in the order it validates (the first bad field is
+// the one reported).
 
-MsmModel BuildMsmModel(const MsmDef& def) {
+// Node arrays: sizes, positions, masses and damping.
+void CopyMsmNodes(const MsmDef& def, MsmModel& m) {
   const auto n = static_cast<std::size_t>(def.x0_m.cols());
   if (n == 0) Fail("x0_m has no nodes");
   if (!def.x0_m.allFinite()) Fail("x0_m contains NaN/inf");
@@ -37,7 +39,6 @@ MsmModel BuildMsmModel(const MsmDef& def) {
             "node_damping_Ns_per_m", true);
   if (!def.gravity_m_per_s2.allFinite()) Fail("gravity_m_per_s2 contains NaN/inf");
 
-  MsmModel m;
   m.num_nodes = static_cast<std::int32_t>(n);
   m.x0_m = def.x0_m;
   m.mass_kg = def.mass_kg;
@@ -55,7 +56,10 @@ MsmModel BuildMsmModel(const MsmDef& def) {
     m.inv_mass_free_per_kg[e] = m.fixed[i] ? 0.0 : 1.0 / m.mass_kg[e];
   }
   m.gravity_m_per_s2 = def.gravity_m_per_s2;
+}
 
+// Springs, with their capacity reserved so cuts never reallocate.
+void CopyMsmSprings(const MsmDef& def, std::size_t n, MsmModel& m) {
   const std::size_t s = def.springs.size();
   CheckSize(def.spring_rest_m.size(), s, "spring_rest_m", true);
   CheckSize(def.spring_k_N_per_m.size(), s, "spring_k_N_per_m", false);
@@ -89,7 +93,9 @@ MsmModel BuildMsmModel(const MsmDef& def) {
     m.spring_k_N_per_m.push_back(def.spring_k_N_per_m[k]);
     m.spring_c_Ns_per_m.push_back(c);
   }
+}
 
+void CopyMsmAnchors(const MsmDef& def, std::size_t n, MsmModel& m) {
   const std::size_t a = def.anchor_node.size();
   CheckSize(static_cast<std::size_t>(def.anchor_point_W_m.cols()), a, "anchor_point_W_m", false);
   CheckSize(def.anchor_k_N_per_m.size(), a, "anchor_k_N_per_m", false);
@@ -107,21 +113,25 @@ MsmModel BuildMsmModel(const MsmDef& def) {
   m.anchor_point_W_m = a > 0 ? def.anchor_point_W_m : Eigen::Matrix3Xd(3, 0);
   m.anchor_k_N_per_m = def.anchor_k_N_per_m;
   m.anchor_c_Ns_per_m = def.anchor_c_Ns_per_m.empty() ? std::vector<double>(a, 0.0) : def.anchor_c_Ns_per_m;
+}
 
+// Node damping and every anchor summed per node, so the step folds them
+// into one pass over the nodes.
+void SumMsmAnchorsPerNode(std::size_t n, MsmModel& m) {
   m.absolute_damping_Ns_per_m = m.node_damping_Ns_per_m;
   m.anchor_k_sum_N_per_m = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
   m.anchor_kp_sum_N = Eigen::Matrix3Xd::Zero(3, static_cast<Eigen::Index>(n));
-  for (std::size_t k = 0; k < a; ++k) {
+  for (std::size_t k = 0; k < m.anchor_node.size(); ++k) {
     const Eigen::Index i = m.anchor_node[k];
     m.absolute_damping_Ns_per_m[i] += m.anchor_c_Ns_per_m[k];
     m.anchor_k_sum_N_per_m[i] += m.anchor_k_N_per_m[k];
     m.anchor_kp_sum_N.col(i) += m.anchor_k_N_per_m[k] * m.anchor_point_W_m.col(static_cast<Eigen::Index>(k));
   }
+}
 
-  // Node adjacency (build order), then room for dormant nodes.
-  if (def.node_capacity != 0 && static_cast<std::size_t>(def.node_capacity) < n)
-    Fail("node_capacity " + std::to_string(def.node_capacity) + " < number of nodes " + std::to_string(n));
-  const std::size_t capacity = def.node_capacity == 0 ? n : static_cast<std::size_t>(def.node_capacity);
+// Each node's springs in build order (node_springs), for `capacity` nodes.
+void BuildMsmAdjacency(const MsmDef& def, std::size_t capacity, MsmModel& m) {
+  const std::size_t s = m.spring_i.size();
   std::vector<std::int32_t> degree(capacity, 0);
   for (std::size_t k = 0; k < s; ++k) {
     ++degree[static_cast<std::size_t>(m.spring_i[k])];
@@ -142,28 +152,47 @@ MsmModel BuildMsmModel(const MsmDef& def) {
           static_cast<std::int32_t>(k);
     }
   }
+}
+
+// Room for nodes added later (cutting): dormant nodes at the origin, fixed,
+// unit placeholder mass, nothing attached.
+void AddDormantMsmNodes(std::size_t n, std::size_t capacity, MsmModel& m) {
   m.num_nodes = static_cast<std::int32_t>(capacity);
   m.node_live.assign(capacity, 0);
   std::fill(m.node_live.begin(), m.node_live.begin() + static_cast<std::ptrdiff_t>(n), 1);
-  if (capacity > n) {  // dormant nodes: at the origin, fixed, unit placeholder mass, nothing attached
-    const auto node_cap = static_cast<Eigen::Index>(capacity), en = static_cast<Eigen::Index>(n);
-    m.x0_m.conservativeResize(3, node_cap);
-    m.x0_m.rightCols(node_cap - en).setZero();
-    m.mass_kg.conservativeResize(node_cap);
-    m.mass_kg.tail(node_cap - en).setOnes();
-    m.inv_mass_free_per_kg.conservativeResize(node_cap);
-    m.inv_mass_free_per_kg.tail(node_cap - en).setZero();
-    m.fixed.resize(capacity, 1);
-    m.node_damping_Ns_per_m.conservativeResize(node_cap);
-    m.node_damping_Ns_per_m.tail(node_cap - en).setZero();
-    m.absolute_damping_Ns_per_m.conservativeResize(node_cap);
-    m.absolute_damping_Ns_per_m.tail(node_cap - en).setZero();
-    m.anchor_k_sum_N_per_m.conservativeResize(node_cap);
-    m.anchor_k_sum_N_per_m.tail(node_cap - en).setZero();
-    m.anchor_kp_sum_N.conservativeResize(3, node_cap);
-    m.anchor_kp_sum_N.rightCols(node_cap - en).setZero();
-  }
+  if (capacity <= n) return;
+  const auto node_cap = static_cast<Eigen::Index>(capacity), en = static_cast<Eigen::Index>(n);
+  m.x0_m.conservativeResize(3, node_cap);
+  m.x0_m.rightCols(node_cap - en).setZero();
+  m.mass_kg.conservativeResize(node_cap);
+  m.mass_kg.tail(node_cap - en).setOnes();
+  m.inv_mass_free_per_kg.conservativeResize(node_cap);
+  m.inv_mass_free_per_kg.tail(node_cap - en).setZero();
+  m.fixed.resize(capacity, 1);
+  m.node_damping_Ns_per_m.conservativeResize(node_cap);
+  m.node_damping_Ns_per_m.tail(node_cap - en).setZero();
+  m.absolute_damping_Ns_per_m.conservativeResize(node_cap);
+  m.absolute_damping_Ns_per_m.tail(node_cap - en).setZero();
+  m.anchor_k_sum_N_per_m.conservativeResize(node_cap);
+  m.anchor_k_sum_N_per_m.tail(node_cap - en).setZero();
+  m.anchor_kp_sum_N.conservativeResize(3, node_cap);
+  m.anchor_kp_sum_N.rightCols(node_cap - en).setZero();
+}
 
+}  // namespace
+
+MsmModel BuildMsmModel(const MsmDef& def) {
+  MsmModel m;
+  CopyMsmNodes(def, m);
+  const auto n = static_cast<std::size_t>(def.x0_m.cols());
+  CopyMsmSprings(def, n, m);
+  CopyMsmAnchors(def, n, m);
+  SumMsmAnchorsPerNode(n, m);
+  if (def.node_capacity != 0 && static_cast<std::size_t>(def.node_capacity) < n)
+    Fail("node_capacity " + std::to_string(def.node_capacity) + " < number of nodes " + std::to_string(n));
+  const std::size_t capacity = def.node_capacity == 0 ? n : static_cast<std::size_t>(def.node_capacity);
+  BuildMsmAdjacency(def, capacity, m);
+  AddDormantMsmNodes(n, capacity, m);
   if (std::isnan(def.max_kinetic_energy_J) || def.max_kinetic_energy_J <= 0.0)
     Fail("max_kinetic_energy_J must be > 0 (use infinity to disable the check)");
   m.max_kinetic_energy_J = def.max_kinetic_energy_J;

@@ -31,14 +31,13 @@ constexpr double kNeedleRestHeight_m = 0.05;  // initial needle: tip this far ab
 AcupunctureScene::AcupunctureScene(const AcupunctureParams& params)
     : params_(params),
       body_(MakeAcupunctureBody(params.layers, params.shf_lmax, params.shf_samples)),
-      depth_m_(Eigen::VectorXd::Zero(kNumTissueLayers + 1)),
-      events_(256) {
+      depth_m_(Eigen::VectorXd::Zero(kNumTissueLayers + 1)) {
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
     nets_[i] = BuildForceNet(NetDef(params_, params_.layers[i]));
     net_states_[i] = MakeForceNetState(nets_[i]);
     eta_[i] = Eigen::VectorXd::Zero(nets_[i].topology.NumNodes());
     unit_mass_[i] = Eigen::VectorXd::Ones(nets_[i].topology.NumNodes());
-    status_.layer_names.push_back(params_.layers[i].name);
+    outputs_.status.layer_names.push_back(params_.layers[i].name);
   }
   BuildDisplay();
   ResetState();
@@ -61,22 +60,18 @@ void AcupunctureScene::ResetState() {
   shaft_coulomb_N_ = 0.0;
   stick_W_m_.setZero();
   t_s_ = 0.0;
-  force_W_N_.setZero();
-  force_model_ = LocalForceModel{};
-  status_.current_layer = -1;
-  status_.tip_depth_m = 0.0;
+  ClearStepOutputs();
   UpdateNeedleMesh(Eigen::Vector3d(0, 0, kNeedleRestHeight_m), -Eigen::Vector3d::UnitZ());
 }
 
 void AcupunctureScene::Reset() {
   ResetState();
-  Log(SceneEventKind::kReset, -1, Eigen::Vector3d::Zero());
-  reset_epoch_ = ResetEpoch::Now(*this);
+  FinishReset();
 }
 
 std::uint64_t AcupunctureScene::StateHash() const {
   StateHasher h;
-  AddCommonSceneState(h, *this, reset_epoch_);
+  AddCommonSceneState(h, *this, outputs_.reset_epoch);
   h.Add(pressing_).Add(punctured_).Add(entry_W_m_).Add(entry_axis_W_).Add(depth_m_).Add(shaft_damping_Ns_per_m_);
   h.Add(shaft_coulomb_N_).Add(stick_W_m_);
   // Left out as pure functions of what is hashed: each net's rest lattice
@@ -97,15 +92,14 @@ std::uint64_t AcupunctureScene::StateHash() const {
 }
 
 void AcupunctureScene::NumericalReset() {
-  ++status_.numerical_resets;
   const double t = t_s_;
   ResetState();
   t_s_ = t;
-  Log(SceneEventKind::kReset, -1, Eigen::Vector3d::Zero());
+  LogNumericalReset(t);
 }
 
 void AcupunctureScene::Log(SceneEventKind kind, int layer, const Eigen::Vector3d& where) {
-  events_.Push({t_s_, kind, layer, where});
+  outputs_.events.Push({t_s_, kind, layer, where});
 }
 
 std::optional<double> AcupunctureScene::PuncturePointOffset_m(int layer) const {
@@ -123,15 +117,12 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
     // No (usable) tool: the needle is out of the tissue.
     if (pressing_ || punctured_ > 0) {
       const Eigen::Vector3d where = tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero();
-      Log(SceneEventKind::kContactEnd, status_.current_layer, where);
+      Log(SceneEventKind::kContactEnd, outputs_.status.current_layer, where);
     }
     if (pressing_) HideNet(punctured_);  // an unpunctured dimple relaxes
     pressing_ = false;
     punctured_ = 0;
-    force_W_N_.setZero();
-    force_model_ = LocalForceModel{};
-    status_.current_layer = -1;
-    status_.tip_depth_m = 0.0;
+    ClearStepOutputs();
   } else {
     const Eigen::Vector3d tip = tool.tip_W_m;
     const Eigen::Vector3d axis = (tool.orientation_W.normalized() * Eigen::Vector3d(0, 0, -1)).normalized();
@@ -139,8 +130,8 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
     UpdateInsertion(tip, axis);
     ComputeForce(tip, tool.velocity_W_m_per_s);
     ComputeForceModel(tip, tool.velocity_W_m_per_s);
-    status_.current_layer = pressing_ ? punctured_ : punctured_ - 1;
-    status_.tip_depth_m = std::max(0.0, depth_m_[0]);
+    outputs_.status.current_layer = pressing_ ? punctured_ : punctured_ - 1;
+    outputs_.status.tip_depth_m = std::max(0.0, depth_m_[0]);
     UpdateNeedleMesh(tip, axis);
   }
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
@@ -154,7 +145,7 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
     net_moved_[i] = true;
   }
   // Blow-up guard: anything non-finite in what we publish resets the scene.
-  bool finite = force_W_N_.allFinite();
+  bool finite = outputs_.tool_force_W_N.allFinite();
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) finite = finite && net_states_[i].ring_Z_m.allFinite();
   if (!finite) {
     NumericalReset();
@@ -237,10 +228,10 @@ void AcupunctureScene::Puncture(int layer, const Eigen::Vector3d& tip, const Eig
 }
 
 void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) {
-  force_W_N_.setZero();
+  outputs_.tool_force_W_N.setZero();
   if (pressing_) {
     const auto i = static_cast<std::size_t>(punctured_);
-    force_W_N_ += NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+    outputs_.tool_force_W_N += NetReactionOnTip_W_N(nets_[i], net_states_[i]);
   }
   const bool coulomb = params_.shaft_friction_law == 1;
   shaft_damping_Ns_per_m_ = ::hapsim::core::ShaftDamping_Ns_per_m(params_.layers, depth_m_.data(), punctured_) *
@@ -249,8 +240,8 @@ void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vec
   if (punctured_ > 0) {
     const Eigen::Vector3d& a = entry_axis_W_;
     const Eigen::Vector3d r = tip - entry_W_m_;
-    force_W_N_ -= shaft_damping_Ns_per_m_ * v.dot(a) * a;                         // Table 1 (scaled in law 1)
-    force_W_N_ -= params_.tunnel_stiffness_N_per_m * (r - r.dot(a) * a);           // tunnel
+    outputs_.tool_force_W_N -= shaft_damping_Ns_per_m_ * v.dot(a) * a;                 // Table 1 (scaled in law 1)
+    outputs_.tool_force_W_N -= params_.tunnel_stiffness_N_per_m * (r - r.dot(a) * a);  // tunnel
     if (coulomb) {
       // Stick-slip: an axial spring to the stick point, saturating at the
       // Coulomb level; past it the shaft slips and the stick point follows.
@@ -258,7 +249,7 @@ void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vec
       const double e_m = (tip - stick_W_m_).dot(a);
       const double held_m = std::clamp(e_m, -shaft_coulomb_N_ / k, shaft_coulomb_N_ / k);
       stick_W_m_ += (e_m - held_m) * a;  // slips by the excess, along the axis
-      force_W_N_ -= k * held_m * a;
+      outputs_.tool_force_W_N -= k * held_m * a;
     }
   }
 }
@@ -299,7 +290,7 @@ void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen
     m.stiffness_N_per_m = std::min(std::max(NetStiffnessAtDepth_N_per_m(net, net_states_[0].depth_m), 1.0),
                                    params_.render_stiffness_max_N_per_m);
     m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
-    const double fn_N = force_W_N_.dot(n);
+    const double fn_N = outputs_.tool_force_W_N.dot(n);
     // Penetration p with k p - b (v·n) = F·n, so the law gives F at this tip.
     double p_m = (fn_N + m.damping_Ns_per_m * v.dot(n)) / m.stiffness_N_per_m;
     if (p_m <= 0.0) {  // fast press: the damper alone would exceed F; drop it this tick
@@ -307,9 +298,9 @@ void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen
       p_m = std::max(0.0, fn_N) / m.stiffness_N_per_m;
     }
     m.anchor_W_m = tip + p_m * n;
-    m.feedforward_W_N = force_W_N_ - std::max(0.0, fn_N) * n;
+    m.feedforward_W_N = outputs_.tool_force_W_N - std::max(0.0, fn_N) * n;
   }
-  force_model_ = m;
+  outputs_.force_model = m;
 }
 
 std::unique_ptr<Scene> MakeAcupunctureScene(const std::map<std::string, double>& params) {

@@ -24,15 +24,14 @@ bool ToolUsable(const ToolInput& t) {
   return t.valid && t.tip_W_m.allFinite() && t.orientation_W.coeffs().allFinite() && t.velocity_W_m_per_s.allFinite();
 }
 
-}  // namespace
-
-CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
+// The skin patch of these parameters. One material: the lattice is the
+// membrane of E and t (nu = 1/3), and it carries the residual stress
+// sigma_r = E eps_r as a uniform pre-stress.
+SkinDef CuttingSkinDef(const CuttingParams& p) {
   SkinDef d;
   d.length_m = p.patch_length_m;
   d.width_m = p.patch_width_m;
   d.spacing_m = p.spacing_m;
-  // One material: the lattice is the membrane of E and t (nu = 1/3), and it
-  // carries the residual stress sigma_r = E eps_r as a uniform pre-stress.
   d.spring_k_N_per_m = LatticeSpringStiffness_N_per_m(p.youngs_modulus_Pa, p.skin_thickness_m);
   d.bending_k_N_per_m = 0.25 * d.spring_k_N_per_m;
   d.prestrain = LatticePrestrainForStress(p.youngs_modulus_Pa * p.residual_strain, p.youngs_modulus_Pa);
@@ -41,9 +40,40 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
   d.min_node_mass_kg = 0.25 * p.node_mass_kg;  // a sliver of area must not make a node stiff for its mass
   d.anchor_k_N_per_m = p.anchor_stiffness_N_per_m;
   d.extra_parts = {"blade"};
+  return d;
+}
+
+}  // namespace
+
+CuttingScene::CuttingScene(const CuttingParams& p) : params_(p) {
+  const SkinDef d = CuttingSkinDef(p);
   skin_ = BuildSkinMesh(d);
-  // The blade: eight fixed slots (dormant MSM nodes, which nothing moves
-  // but UpdateBladeMesh) and twelve triangles.
+  AddBladeToMesh();
+  CheckStepIsStable(d.min_node_mass_kg);
+  skin_.model.max_kinetic_energy_J = p.max_kinetic_energy_J;
+  initial_model_ = skin_.model;
+  initial_state_ = skin_.state;
+  initial_on_lip_ = skin_.on_lip;
+  workspace_ = MakeMsmWorkspace(skin_.model);
+  cutter_ = SkinCutter(skin_);
+  cut_config_.sweep_radius_m = p.sweep_radius_m;
+  cut_config_.wound_anchor_k_N_per_m = p.anchor_stiffness_N_per_m;
+  curve_ =
+      IncisionCurve(static_cast<std::size_t>(4.0 * (p.patch_length_m + p.patch_width_m) / p.segment_length_m) + 64);
+  const Eigen::Vector3d margin(0.01, 0.01, 0.005);  // nodes farther out are clamped into border cells
+  skin_box_ = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5 * p.patch_length_m, -0.5 * p.patch_width_m, 0.0) - margin,
+                                  Eigen::Vector3d(0.5 * p.patch_length_m, 0.5 * p.patch_width_m, 0.0) + margin);
+  rest_grid_ = UniformGrid(skin_box_, std::max(2.0 * p.blade_radius_m, 2.0 * p.spacing_m),
+                           static_cast<std::size_t>(skin_.model.num_nodes));
+  colliding_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
+  loaded_nodes_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
+  outputs_.status.layer_names = {"skin"};
+}
+
+// The blade: eight fixed slots (dormant MSM nodes, which nothing moves but
+// UpdateBladeMesh) and twelve triangles, drawn parked; then the mesh as
+// built is sealed (what Reset() returns to).
+void CuttingScene::AddBladeToMesh() {
   MeshTopology& topo = skin_.topology;
   for (auto& slot : blade_slots_) slot = topo.AddVertex();
   const auto& b = blade_slots_;
@@ -60,13 +90,17 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
   ToolInput parked;
   UpdateBladeMesh(BladeOf(parked));
   topo.Seal();
+}
 
-  // Stability: the explicit step must stay below the critical step with the
-  // contact and support springs on a node (lightest node: the mass floor).
+// The explicit step must stay below the critical step with the contact and
+// support springs on a node, for the lightest node too (the mass floor).
+void CuttingScene::CheckStepIsStable(double min_node_mass_kg) const {
+  const CuttingParams& p = params_;
   const double extra_k = p.contact_stiffness_N_per_m + p.support_stiffness_N_per_m;
   const double critical_s = CriticalTimeStep_s(EstimateModeBounds(skin_.model, extra_k, p.contact_damping_Ns_per_m), kIntegrator);
   MsmModel lightest = skin_.model;
-  for (Eigen::Index i = 0; i < lightest.mass_kg.size(); ++i) lightest.mass_kg[i] = std::min(lightest.mass_kg[i], d.min_node_mass_kg);
+  for (Eigen::Index i = 0; i < lightest.mass_kg.size(); ++i)
+    lightest.mass_kg[i] = std::min(lightest.mass_kg[i], min_node_mass_kg);
   const double critical_light_s =
       CriticalTimeStep_s(EstimateModeBounds(lightest, extra_k, p.contact_damping_Ns_per_m), kIntegrator);
   if (!(kSubstep_s <= 0.9 * std::min(critical_s, critical_light_s))) {
@@ -77,23 +111,6 @@ CuttingScene::CuttingScene(const CuttingParams& p) : params_(p), events_(256) {
            "'support_stiffness_N_per_m' or 'damping_Ns_per_m'";
     throw std::invalid_argument(msg.str());
   }
-  skin_.model.max_kinetic_energy_J = p.max_kinetic_energy_J;
-  initial_model_ = skin_.model;
-  initial_state_ = skin_.state;
-  initial_on_lip_ = skin_.on_lip;
-  workspace_ = MakeMsmWorkspace(skin_.model);
-  cutter_ = SkinCutter(skin_);
-  cut_config_.sweep_radius_m = p.sweep_radius_m;
-  cut_config_.wound_anchor_k_N_per_m = p.anchor_stiffness_N_per_m;
-  curve_ = IncisionCurve(static_cast<std::size_t>(4.0 * (p.patch_length_m + p.patch_width_m) / p.segment_length_m) + 64);
-  const Eigen::Vector3d margin(0.01, 0.01, 0.005);  // nodes farther out are clamped into border cells
-  skin_box_ = Eigen::AlignedBox3d(Eigen::Vector3d(-0.5 * p.patch_length_m, -0.5 * p.patch_width_m, 0.0) - margin,
-                                  Eigen::Vector3d(0.5 * p.patch_length_m, 0.5 * p.patch_width_m, 0.0) + margin);
-  rest_grid_ = UniformGrid(skin_box_, std::max(2.0 * p.blade_radius_m, 2.0 * p.spacing_m),
-                      static_cast<std::size_t>(skin_.model.num_nodes));
-  colliding_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
-  loaded_nodes_.reserve(static_cast<std::size_t>(skin_.model.num_nodes));
-  status_.layer_names = {"skin"};
 }
 
 Cylinder CuttingScene::BladeOf(const ToolInput& tool) const {
@@ -135,7 +152,7 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   st.f_ext_N.row(2) = -params_.support_stiffness_N_per_m * (st.x_m.row(2) - skin_.model.x0_m.row(2));
   loaded_nodes_.clear();
   colliding_.clear();
-  force_W_N_.setZero();
+  outputs_.tool_force_W_N.setZero();
   cut_normal_N_ = 0.0;
   if (usable) {
     if (Bounds(blade).intersects(skin_box_)) {
@@ -165,8 +182,8 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
     return;
   }
   UpdateForceModel(tool);
-  status_.current_layer = contact ? 0 : -1;
-  status_.tip_depth_m = usable ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
+  outputs_.status.current_layer = contact ? 0 : -1;
+  outputs_.status.tip_depth_m = usable ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
 }
 
 // Where the blade crosses the skin plane, if it does (tip below, blade not
@@ -210,14 +227,23 @@ void CuttingScene::EndCut(const Eigen::Vector3d& where) {
 // nodes down. Always: nodes inside the blade cylinder are pushed out from
 // its axis (the paper: force from N along N -> p), the tool gets the reaction.
 void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
+  PushNodesOffBlade(blade);
+  if (cutting_) {
+    ResistCuttingDeeper(tool);
+  } else {
+    PressSkinUnderTip(tool);
+  }
+}
+
+// While cutting, the blade's edge parts the skin ahead of it (the drag law
+// is that resistance) and its sides push the wound's lips apart, across
+// the incision and into their own tissue. The skin between the wound's
+// last committed point and the blade is cut already (the mesh catches up
+// at the next segment): pushing it, or pushing along the incision, would
+// wedge and plough it, folding its triangles.
+void CuttingScene::PushNodesOffBlade(const Cylinder& blade) {
   MsmState& st = skin_.state;
   const double k = params_.contact_stiffness_N_per_m;
-  // While cutting, the blade's edge parts the skin ahead of it (the drag law
-  // is that resistance) and its sides push the wound's lips apart, across
-  // the incision and into their own tissue. The skin between the wound's
-  // last committed point and the blade is cut already (the mesh catches up
-  // at the next segment): pushing it, or pushing along the incision, would
-  // wedge and plough it, folding its triangles.
   Eigen::Vector3d along = Eigen::Vector3d::Zero();
   if (cutting_ && curve_.Segments() > 0) {
     const Eigen::Vector2d t = curve_.Tangent(curve_.Segments());
@@ -239,22 +265,30 @@ void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
     }
     const Eigen::Vector3d f = k * (blade.radius_m - d) * out;
     st.f_ext_N.col(v) += f;
-    force_W_N_ -= f;
+    outputs_.tool_force_W_N -= f;
     loaded_nodes_.push_back(v);
   }
-  const Eigen::Vector3d& tip = tool.tip_W_m;
-  if (cutting_) {
-    // In the wound the blade has no skin surface under it; the tissue
-    // around and below it resists pressing deeper with the pressing law's
-    // stiffness from the rest surface z = 0 (so it is continuous with the
-    // press that started the cut), carried by the tissue underneath.
-    const double depth_m = -tip.z();
-    if (depth_m > 0.0) {
-      cut_normal_N_ = std::max(0.0, k * depth_m - params_.contact_damping_Ns_per_m * tool.velocity_W_m_per_s.z());
-      force_W_N_.z() += cut_normal_N_;
-    }
-    return;
+}
+
+// In the wound the blade has no skin surface under it; the tissue around
+// and below it resists pressing deeper with the pressing law's stiffness
+// from the rest surface z = 0 (so it is continuous with the press that
+// started the cut), carried by the tissue underneath.
+void CuttingScene::ResistCuttingDeeper(const ToolInput& tool) {
+  const double depth_m = -tool.tip_W_m.z();
+  if (depth_m > 0.0) {
+    cut_normal_N_ = std::max(0.0, params_.contact_stiffness_N_per_m * depth_m -
+                                      params_.contact_damping_Ns_per_m * tool.velocity_W_m_per_s.z());
+    outputs_.tool_force_W_N.z() += cut_normal_N_;
   }
+}
+
+// The tip against the skin surface of the rest grid cell under it: a
+// penalty push up on the tool, down on the cell's four nodes.
+void CuttingScene::PressSkinUnderTip(const ToolInput& tool) {
+  MsmState& st = skin_.state;
+  const double k = params_.contact_stiffness_N_per_m;
+  const Eigen::Vector3d& tip = tool.tip_W_m;
   const double fx = (tip.x() + 0.5 * params_.patch_length_m) / (params_.patch_length_m / (skin_.nx - 1));
   const double fy = (tip.y() + 0.5 * params_.patch_width_m) / (params_.patch_width_m / (skin_.ny - 1));
   if (!(fx >= 0.0 && fy >= 0.0 && fx < skin_.nx - 1 && fy < skin_.ny - 1)) return;
@@ -273,7 +307,7 @@ void CuttingScene::ApplyContact(const ToolInput& tool, const Cylinder& blade) {
   const double penetration = surface_z - tip.z();
   if (penetration <= 0.0) return;
   const double push = std::max(0.0, k * penetration - params_.contact_damping_Ns_per_m * (tool.velocity_W_m_per_s.z() - surface_vz));
-  force_W_N_.z() += push;
+  outputs_.tool_force_W_N.z() += push;
   for (int a = 0; a < 4; ++a) {
     st.f_ext_N(2, nodes[static_cast<std::size_t>(a)]) -= weights[static_cast<std::size_t>(a)] * push;
     loaded_nodes_.push_back(nodes[static_cast<std::size_t>(a)]);
@@ -300,8 +334,8 @@ Eigen::Vector3d CuttingScene::IntoTissue(std::uint32_t v) const {
 void CuttingScene::UpdateForceModel(const ToolInput& tool) {
   LocalForceModel m;
   if (!ToolUsable(tool)) {
-    force_model_ = m;
-    force_W_N_.setZero();
+    outputs_.force_model = m;
+    outputs_.tool_force_W_N.setZero();
     return;
   }
   const Eigen::Vector3d& tip = tool.tip_W_m;
@@ -316,9 +350,10 @@ void CuttingScene::UpdateForceModel(const ToolInput& tool) {
     m.drag_direction_W = Eigen::Vector3d(t.x(), t.y(), 0.0);
     m.drag_N = params_.cut_force_N;
     m.drag_damping_Ns_per_m = params_.cut_damping_Ns_per_m;
-    m.feedforward_W_N = force_W_N_ - cut_normal_N_ * Eigen::Vector3d::UnitZ();  // the blade sides' reactions
-    force_W_N_ = EvaluateLocalForce(m, tip, tool.velocity_W_m_per_s);
-  } else if (force_W_N_.z() > 0.0 || !loaded_nodes_.empty()) {
+    m.feedforward_W_N =
+        outputs_.tool_force_W_N - cut_normal_N_ * Eigen::Vector3d::UnitZ();  // the blade sides' reactions
+    outputs_.tool_force_W_N = EvaluateLocalForce(m, tip, tool.velocity_W_m_per_s);
+  } else if (outputs_.tool_force_W_N.z() > 0.0 || !loaded_nodes_.empty()) {
     m.state = ContactState::kContact;
     m.normal_W = Eigen::Vector3d::UnitZ();
     m.stiffness_N_per_m = std::min(params_.contact_stiffness_N_per_m, params_.render_stiffness_max_N_per_m);
@@ -326,13 +361,13 @@ void CuttingScene::UpdateForceModel(const ToolInput& tool) {
     // k p - b v_z = push at the current tip: p = (push + b v_z) / k (without
     // the damper if that would put the plane below the tip); no push: the
     // plane at the tip.
-    const double push = std::max(0.0, force_W_N_.z());
+    const double push = std::max(0.0, outputs_.tool_force_W_N.z());
     if (push + m.damping_Ns_per_m * tool.velocity_W_m_per_s.z() <= 0.0) m.damping_Ns_per_m = 0.0;
     const double p = push > 0.0 ? (push + m.damping_Ns_per_m * tool.velocity_W_m_per_s.z()) / m.stiffness_N_per_m : 0.0;
     m.anchor_W_m = tip + Eigen::Vector3d(0.0, 0.0, p);
-    m.feedforward_W_N = force_W_N_ - push * Eigen::Vector3d::UnitZ();  // what the normal law does not give
+    m.feedforward_W_N = outputs_.tool_force_W_N - push * Eigen::Vector3d::UnitZ();  // what the normal law does not give
   }
-  force_model_ = m;
+  outputs_.force_model = m;
 }
 
 void CuttingScene::UpdateBladeMesh(const Cylinder& blade) {
@@ -351,10 +386,10 @@ void CuttingScene::Log(SceneEventKind kind, const Eigen::Vector3d& where, double
   SceneEvent e;
   e.t_s = skin_.state.t_s;
   e.kind = kind;
-  e.layer = kind == SceneEventKind::kReset ? -1 : 0;
+  e.layer = 0;  // the skin (resets are logged by FinishReset)
   e.where_W_m = where;
   e.value = value;
-  events_.Push(e);
+  outputs_.events.Push(e);
 }
 
 void CuttingScene::Reset() {
@@ -371,25 +406,20 @@ void CuttingScene::Reset() {
   colliding_.clear();
   loaded_nodes_.clear();
   cut_totals_ = {};
-  force_W_N_.setZero();
-  force_model_ = {};
-  status_.current_layer = -1;
-  status_.tip_depth_m = 0.0;
-  Log(SceneEventKind::kReset, Eigen::Vector3d::Zero());
-  reset_epoch_ = ResetEpoch::Now(*this);
+  FinishReset();
 }
 
 void CuttingScene::NumericalReset() {
-  const std::uint64_t resets = status_.numerical_resets + 1;
+  const std::uint64_t resets = outputs_.status.numerical_resets + 1;
   const double t = skin_.state.t_s;
   Reset();
   skin_.state.t_s = t;
-  status_.numerical_resets = resets;
+  outputs_.status.numerical_resets = resets;
 }
 
 std::uint64_t CuttingScene::StateHash() const {
   StateHasher h;
-  AddCommonSceneState(h, *this, reset_epoch_);
+  AddCommonSceneState(h, *this, outputs_.reset_epoch);
   // Node columns up to the last slot ever used (the rest never held state).
   const MsmState& s = skin_.state;
   const std::size_t used = 3 * static_cast<std::size_t>(skin_.topology.Vertices().HighWater()) * sizeof(double);

@@ -104,7 +104,7 @@ TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
     }
   }
   topology_.Seal();
-  status_.layer_names = {"tissue"};
+  outputs_.status.layer_names = {"tissue"};
 }
 
 TissueBlockScene::Contact TissueBlockScene::FindContact(const ToolInput& tool) const {
@@ -175,24 +175,24 @@ void TissueBlockScene::UpdateOutputs(const ToolInput& tool, const Contact& c) {
   const double force_N = c.push_N;
   // damping_Ns_per_m stays 0: force_N already contains the contact damper at
   // this tick, and the bridge adds its own coupling damping.
-  tool_force_W_N_ = force_N * n_W;
-  force_model_ = LocalForceModel{};
+  outputs_.tool_force_W_N = force_N * n_W;
+  outputs_.force_model = LocalForceModel{};
   if (c.active) {
     // Tip and tissue are springs in series: k = (1/k_c + 1/k_surface)^-1.
     const double k_eff = 1.0 / (1.0 / params_.contact_stiffness_N_per_m +
                                 1.0 / LocalSurfaceStiffness_N_per_m(c));
-    force_model_.state = ContactState::kContact;
-    force_model_.normal_W = n_W;
-    force_model_.stiffness_N_per_m = k_eff;
+    outputs_.force_model.state = ContactState::kContact;
+    outputs_.force_model.normal_W = n_W;
+    outputs_.force_model.stiffness_N_per_m = k_eff;
     // Anchor such that k (anchor - tip)·n = F at the current tip.
-    force_model_.anchor_W_m = tool.tip_W_m + (force_N / k_eff) * n_W;
+    outputs_.force_model.anchor_W_m = tool.tip_W_m + (force_N / k_eff) * n_W;
   }
   const bool tip_ok = tool.valid && tool.tip_W_m.allFinite();
-  status_.tip_depth_m = tip_ok ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
-  status_.current_layer = c.active ? 0 : -1;
+  outputs_.status.tip_depth_m = tip_ok ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
+  outputs_.status.current_layer = c.active ? 0 : -1;
   if (c.active != was_in_contact_) {
-    events_.Push({state_.t_s, c.active ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd,
-                  0, tip_ok ? tool.tip_W_m : Eigen::Vector3d::Zero()});
+    outputs_.events.Push({state_.t_s, c.active ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd, 0,
+                          tip_ok ? tool.tip_W_m : Eigen::Vector3d::Zero()});
     was_in_contact_ = c.active;
   }
 }
@@ -205,8 +205,7 @@ void TissueBlockScene::RecoverFromBlowup() {
   state_.blowups = blowups;
   loaded_nodes_ = {};
   region_seed_ = -1;
-  ++status_.numerical_resets;
-  events_.Push({t_s, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
+  LogNumericalReset(t_s);
 }
 
 void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
@@ -244,17 +243,12 @@ void TissueBlockScene::Reset() {
   loaded_nodes_ = {};
   region_seed_ = -1;
   was_in_contact_ = false;
-  tool_force_W_N_.setZero();
-  force_model_ = LocalForceModel{};
-  status_.current_layer = -1;
-  status_.tip_depth_m = 0.0;
-  events_.Push({0.0, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
-  reset_epoch_ = ResetEpoch::Now(*this);
+  FinishReset();
 }
 
 std::uint64_t TissueBlockScene::StateHash() const {
   StateHasher h;
-  AddCommonSceneState(h, *this, reset_epoch_);
+  AddCommonSceneState(h, *this, outputs_.reset_epoch);
   // Vertices_m() is state_.x_m; the workspace and the region are scratch and
   // a cache (the integrators start from zero, the region is a function of the
   // tool's cell).

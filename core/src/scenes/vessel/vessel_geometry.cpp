@@ -84,11 +84,10 @@ void Check(const VesselGeometryDef& d) {
   }
 }
 
-}  // namespace
+// GenerateVessel's steps, in order.
 
-VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
-  Check(d);
-  VesselGeometry g;
+// The lattice's size: stations along, rings around, layers across.
+void SizeVesselLattice(const VesselGeometryDef& d, VesselGeometry& g) {
   const double r_in = d.lumen_radius_m, r_out = r_in + d.wall_thickness_m;
   g.outer_radius_m = r_out;
   g.layers = d.radial_layers;
@@ -99,11 +98,13 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
     throw std::invalid_argument("vessel: " + std::to_string(static_cast<long long>(nodes)) +
                                 " nodes (more than 200 000): raise the node spacing");
   }
+}
+
+// Centreline samples at the stations, then centred on the origin in x-y; z
+// so the top of the tube is at 0. Returns the unit tangent at each station.
+std::vector<Eigen::Vector2d> SampleVesselCentreline(const VesselGeometryDef& d, VesselGeometry& g) {
   const std::vector<Segment> segments = Centreline(d);
   g.centreline_length_m = d.length_m;
-
-  // Centreline samples, then centred on the origin in x-y; z so the top of
-  // the tube is at 0.
   std::vector<Eigen::Vector2d> p(static_cast<std::size_t>(g.stations)), t(p.size());
   const double ds = d.length_m / (g.stations - 1);
   for (int k = 0; k < g.stations; ++k) Sample(segments, k * ds, &p[static_cast<std::size_t>(k)], &t[static_cast<std::size_t>(k)]);
@@ -112,10 +113,28 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
   const Eigen::Vector2d centre = 0.5 * (lo + hi);
   g.centreline_m.resize(3, g.stations);
   for (int k = 0; k < g.stations; ++k) {
-    g.centreline_m.col(k) << p[static_cast<std::size_t>(k)] - centre, -r_out;
+    g.centreline_m.col(k) << p[static_cast<std::size_t>(k)] - centre, -g.outer_radius_m;
   }
+  return t;
+}
 
-  // Layer radii and their radial shares (mid-radii between layers).
+// A point on the ring of radius r around station k, at angle index a (0:
+// straight up, then towards up x tangent).
+Eigen::Vector3d VesselRingPoint(const VesselGeometry& g, const std::vector<Eigen::Vector2d>& tangents, int k, double r,
+                                int a) {
+  const double dphi = 2.0 * std::numbers::pi / g.ring;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d tangent(tangents[static_cast<std::size_t>(k)].x(), tangents[static_cast<std::size_t>(k)].y(),
+                                0.0);
+  const Eigen::Vector3d side = up.cross(tangent);
+  const double phi = a * dphi;
+  return Eigen::Vector3d(g.centreline_m.col(k) + r * (pmath::Cos(phi) * up + pmath::Sin(phi) * side));
+}
+
+// The nodes, station by station, layer by layer, around; each owns its
+// share of the wall's volume (layer radii and the mid-radii between them).
+void PlaceVesselNodes(const VesselGeometryDef& d, const std::vector<Eigen::Vector2d>& tangents, VesselGeometry& g) {
+  const double r_in = d.lumen_radius_m, r_out = g.outer_radius_m;
   std::vector<double> radius(static_cast<std::size_t>(g.layers)), lo_r(radius.size()), hi_r(radius.size());
   for (int l = 0; l < g.layers; ++l) radius[static_cast<std::size_t>(l)] = r_in + (r_out - r_in) * l / (g.layers - 1);
   for (int l = 0; l < g.layers; ++l) {
@@ -123,16 +142,9 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
     lo_r[u] = l == 0 ? r_in : 0.5 * (radius[u - 1] + radius[u]);
     hi_r[u] = l == g.layers - 1 ? r_out : 0.5 * (radius[u] + radius[u + 1]);
   }
+  const double ds = d.length_m / (g.stations - 1);
   const double dphi = 2.0 * std::numbers::pi / g.ring;
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  auto offset = [&](int k, double r, int a) {
-    const Eigen::Vector3d tangent(t[static_cast<std::size_t>(k)].x(), t[static_cast<std::size_t>(k)].y(), 0.0);
-    const Eigen::Vector3d side = up.cross(tangent);
-    const double phi = a * dphi;
-    return Eigen::Vector3d(g.centreline_m.col(k) + r * (pmath::Cos(phi) * up + pmath::Sin(phi) * side));
-  };
-
-  const auto n = static_cast<Eigen::Index>(nodes);
+  const auto n = static_cast<Eigen::Index>(static_cast<double>(g.stations) * g.layers * g.ring);
   g.nodes_m.resize(3, n);
   g.node_volume_m3.resize(static_cast<std::size_t>(n));
   g.anchored.assign(static_cast<std::size_t>(n), 0);
@@ -143,22 +155,25 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
       const auto u = static_cast<std::size_t>(l);
       const double volume = axial * 0.5 * dphi * (hi_r[u] * hi_r[u] - lo_r[u] * lo_r[u]);
       for (int a = 0; a < g.ring; ++a, ++i) {
-        g.nodes_m.col(i) = offset(k, radius[u], a);
+        g.nodes_m.col(i) = VesselRingPoint(g, tangents, k, radius[u], a);
         g.node_volume_m3[static_cast<std::size_t>(i)] = volume;
         g.anchored[static_cast<std::size_t>(i)] = (k == 0 || k == g.stations - 1) ? 1 : 0;
       }
     }
   }
+}
 
-  // Display surface: outer rings (part 0) then lumen rings (part 1), same
-  // stations and angles as the nodes; quads split in two, end rings closing
-  // the wall (part 0). Outward normals by vertex order.
+// Display surface: outer rings (part 0) then lumen rings (part 1), same
+// stations and angles as the nodes; quads split in two, end rings closing
+// the wall (part 0). Outward normals by vertex order.
+void BuildVesselSurface(const VesselGeometryDef& d, const std::vector<Eigen::Vector2d>& tangents, VesselGeometry& g) {
+  const double r_in = d.lumen_radius_m, r_out = g.outer_radius_m;
   const int ring = g.ring, S = g.stations;
   g.surface_m.resize(3, 2 * S * ring);
   for (int k = 0; k < S; ++k)
     for (int a = 0; a < ring; ++a) {
-      g.surface_m.col(k * ring + a) = offset(k, r_out, a);
-      g.surface_m.col(S * ring + k * ring + a) = offset(k, r_in, a);
+      g.surface_m.col(k * ring + a) = VesselRingPoint(g, tangents, k, r_out, a);
+      g.surface_m.col(S * ring + k * ring + a) = VesselRingPoint(g, tangents, k, r_in, a);
     }
   auto vertex = [&](int side, int k, int a) { return static_cast<std::uint32_t>(side * S * ring + k * ring + (a % ring)); };
   auto quad = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t e, std::uint16_t part) {
@@ -176,6 +191,17 @@ VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
     quad(vertex(0, 0, a), vertex(0, 0, a + 1), vertex(1, 0, a + 1), vertex(1, 0, a), 0);
     quad(vertex(0, S - 1, a), vertex(1, S - 1, a), vertex(1, S - 1, a + 1), vertex(0, S - 1, a + 1), 0);
   }
+}
+
+}  // namespace
+
+VesselGeometry GenerateVessel(const VesselGeometryDef& d) {
+  Check(d);
+  VesselGeometry g;
+  SizeVesselLattice(d, g);
+  const std::vector<Eigen::Vector2d> tangents = SampleVesselCentreline(d, g);
+  PlaceVesselNodes(d, tangents, g);
+  BuildVesselSurface(d, tangents, g);
   return g;
 }
 

@@ -85,17 +85,8 @@ VesselScene::VesselScene(const VesselParams& params)
     : params_(params), geometry_(GenerateVessel(VesselGeometryFor(params))) {
   const VesselGeometryDef def = VesselGeometryFor(params_);
   const double spacing_m = def.node_spacing_m;
-  MeshlessDef m;
-  m.x0_m = geometry_.nodes_m;
-  m.volume_m3 = geometry_.node_volume_m3;
-  for (const double v : geometry_.node_volume_m3) m.mass_kg.push_back(params_.density_kg_per_m3 * v);
-  m.fixed = geometry_.anchored;
-  m.support_radius_m = params_.support_radius_factor * spacing_m;
-  m.youngs_modulus_Pa = params_.youngs_modulus_Pa;
-  m.poisson_ratio = params_.poisson_ratio;
-  m.damping_per_s = params_.damping_per_s;
-  model_ = BuildMeshlessModel(m);
-
+  const double support_radius_m = params_.support_radius_factor * spacing_m;
+  BuildMeshlessWall(support_radius_m);
   kind_ = static_cast<VesselModel>(params_.model);
   outer_radius_m_ = def.lumen_radius_m + def.wall_thickness_m;
   skin_on_ = params_.skin == 1 || (params_.skin == -1 && def.shape == VesselShape::kStraight);
@@ -103,11 +94,43 @@ VesselScene::VesselScene(const VesselParams& params)
   std::vector<DistanceConstraint> stretch;
   BuildLattice(spacing_m, stretch);
   BuildFoundation(def);
+  ScaleMassesForStability();
+  BuildWallStep(std::move(stretch));
+  SizeStepScratch(spacing_m);
+  bed_z_m_ = geometry_.nodes_m.row(2).minCoeff();
+  probe_floor_z_m_ = bed_z_m_ + params_.probe_radius_m + 2.0 * def.wall_thickness_m;
+  BuildDisplay(support_radius_m);
+  outputs_.status.layer_names = {"vessel_wall"};
+  OrientLumenPressure();
+  Inflate();
+  MeasureSettledCurve();  // ~0.4 s for the vein
+  Reset();
+  // The build's own press and reset are not the session's.
+  outputs_.events = EventLog();
+  outputs_.status.numerical_resets = 0;
+  outputs_.reset_epoch = ResetEpoch::Now(*this);
+}
 
-  // Mass scaling: the critical step grows with the square root of the mass.
-  // Plain PBD has no explicit forces, but its contact force is the
-  // multiplier that moves the nodes (inertia over h^2): it takes the
-  // meshless model's masses so the three force curves compare.
+// The wall's meshless model: the generated nodes, their volumes and masses,
+// the material.
+void VesselScene::BuildMeshlessWall(double support_radius_m) {
+  MeshlessDef m;
+  m.x0_m = geometry_.nodes_m;
+  m.volume_m3 = geometry_.node_volume_m3;
+  for (const double v : geometry_.node_volume_m3) m.mass_kg.push_back(params_.density_kg_per_m3 * v);
+  m.fixed = geometry_.anchored;
+  m.support_radius_m = support_radius_m;
+  m.youngs_modulus_Pa = params_.youngs_modulus_Pa;
+  m.poisson_ratio = params_.poisson_ratio;
+  m.damping_per_s = params_.damping_per_s;
+  model_ = BuildMeshlessModel(m);
+}
+
+// Mass scaling: the critical step grows with the square root of the mass.
+// Plain PBD has no explicit forces, but its contact force is the
+// multiplier that moves the nodes (inertia over h^2): it takes the
+// meshless model's masses so the three force curves compare.
+void VesselScene::ScaleMassesForStability() {
   const double h_s = 1e-3 / params_.substeps;  // the session's 1 kHz tick
   const double omega = kind_ == VesselModel::kMassSpring ? MaxSpringOmega_rad_per_s(model_, springs_)
                                                          : MaxMeshlessOmega_rad_per_s(model_);
@@ -124,11 +147,13 @@ VesselScene::VesselScene(const VesselParams& params)
         << " ms (raise 'substeps' or 'mass_scale', or lower 'youngs_modulus_Pa')";
     throw std::invalid_argument(msg.str());
   }
+}
 
-  // The step is StepXpbd's: the wall's nodes with the scaled masses, and
-  // the distance constraints of the model (the paper's stretching
-  // constraints, or the plain-PBD baseline's springs). Independent
-  // constraints side by side: the sweeps overlap their work.
+// The step is StepXpbd's: the wall's nodes with the scaled masses, and
+// the distance constraints of the model (the paper's stretching
+// constraints, or the plain-PBD baseline's springs). Independent
+// constraints side by side: the sweeps overlap their work.
+void VesselScene::BuildWallStep(std::vector<DistanceConstraint> stretch) {
   XpbdDef wall;
   wall.x0_m = geometry_.nodes_m;
   wall.mass_kg.assign(model_.mass_kg.data(), model_.mass_kg.data() + model_.n);
@@ -140,7 +165,12 @@ VesselScene::VesselScene(const VesselParams& params)
   OrderByColour(wall.distance, model_.n);
   wall_model_ = BuildXpbdModel(wall);
   wall_ = MakeXpbdState(wall_model_);
+}
 
+// Everything a step writes, sized once so the step never allocates: the
+// multipliers, the contact broad phase over the rest positions, the
+// deformation gradients.
+void VesselScene::SizeStepScratch(double spacing_m) {
   tet_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tets_.size()));
   tether_lambda_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(tether_node_.size()));
   Eigen::AlignedBox3d box(geometry_.nodes_m.rowwise().minCoeff(), geometry_.nodes_m.rowwise().maxCoeff());
@@ -148,13 +178,13 @@ VesselScene::VesselScene(const VesselParams& params)
   rest_grid_.Build(geometry_.nodes_m);
   candidates_.reserve(static_cast<std::size_t>(model_.n));
   contact_lambda_.assign(static_cast<std::size_t>(model_.n), 0.0);
-
-  bed_z_m_ = geometry_.nodes_m.row(2).minCoeff();
-  probe_floor_z_m_ = bed_z_m_ + params_.probe_radius_m + 2.0 * def.wall_thickness_m;
-  surface_map_ = BuildMlsSurfaceMap(geometry_.nodes_m, geometry_.surface_m, m.support_radius_m);
   F_.assign(static_cast<std::size_t>(model_.n), Eigen::Matrix3d::Identity());
-  surface_m_ = geometry_.surface_m;
+}
 
+// The displayed surface: the MLS map from the nodes, and its never-edited topology.
+void VesselScene::BuildDisplay(double support_radius_m) {
+  surface_map_ = BuildMlsSurfaceMap(geometry_.nodes_m, geometry_.surface_m, support_radius_m);
+  surface_m_ = geometry_.surface_m;
   topology_ = MeshTopology({.vertex_capacity = static_cast<std::uint32_t>(geometry_.surface_m.cols()),
                             .triangle_capacity = static_cast<std::uint32_t>(geometry_.triangles.size()),
                             .part_names = {"vessel_wall", "lumen"},
@@ -165,20 +195,15 @@ VesselScene::VesselScene(const VesselParams& params)
     topology_.AddTriangle(tri[0], tri[1], tri[2], geometry_.triangle_part[t]);
   }
   topology_.Seal();
-  status_.layer_names = {"vessel_wall"};
+}
 
-  {  // which way the inner wall's cross product points: out of the lumen at a middle-station node
-    const int k = geometry_.stations / 2, L = geometry_.layers, R = geometry_.ring;
-    auto at = [&](int kk, int a) { return geometry_.nodes_m.col((kk * L) * R + ((a + R) % R)); };
-    const Eigen::Vector3d n = (at(k, 1) - at(k, R - 1)).cross(at(k + 1, 0) - at(k - 1, 0));
-    lumen_outward_sign_ = n.dot(at(k, 0) - geometry_.centreline_m.col(k)) >= 0.0 ? 1.0 : -1.0;
-  }
-  Inflate();
-  MeasureSettledCurve();  // ~0.4 s for the vein
-  Reset();
-  events_ = EventLog();  // the build's own press and reset are not the session's
-  status_.numerical_resets = 0;
-  reset_epoch_ = ResetEpoch::Now(*this);
+// Which way the inner wall's tangent cross product points: out of the lumen
+// at a middle-station node (AddLumenPressure).
+void VesselScene::OrientLumenPressure() {
+  const int k = geometry_.stations / 2, L = geometry_.layers, R = geometry_.ring;
+  auto at = [&](int kk, int a) { return geometry_.nodes_m.col((kk * L) * R + ((a + R) % R)); };
+  const Eigen::Vector3d n = (at(k, 1) - at(k, R - 1)).cross(at(k + 1, 0) - at(k - 1, 0));
+  lumen_outward_sign_ = n.dot(at(k, 0) - geometry_.centreline_m.col(k)) >= 0.0 ? 1.0 : -1.0;
 }
 
 void VesselScene::BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch) {
@@ -339,12 +364,12 @@ bool VesselScene::Advance(bool tool_ok, double h_s) {
 
   // The contact force on the tool; the blow-up guard.
   const double inv_h2 = 1.0 / (h_s * h_s);
-  tool_force_W_N_.setZero();
+  outputs_.tool_force_W_N.setZero();
   for (const std::uint32_t i : candidates_) {
     if (contact_lambda_[i] <= 0.0) continue;
     const Eigen::Vector3d out = wall_.x_m.col(i) - tip_W_m_;
     const double length = out.norm();
-    if (length > 0.0) tool_force_W_N_ -= contact_lambda_[i] * inv_h2 * out / length;
+    if (length > 0.0) outputs_.tool_force_W_N -= contact_lambda_[i] * inv_h2 * out / length;
   }
   double kinetic_J = 0.0;
   for (std::int32_t i = 0; i < model_.n; ++i)
@@ -386,19 +411,19 @@ double VesselScene::SkinForce_N(const Eigen::Vector3d& tip_W_m) const {
 }
 
 void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
-  if (tool_ok) tool_force_W_N_.z() += SkinForce_N(tip_W_m_);
-  const double force_N = tool_force_W_N_.norm();
+  if (tool_ok) outputs_.tool_force_W_N.z() += SkinForce_N(tip_W_m_);
+  const double force_N = outputs_.tool_force_W_N.norm();
   const bool touching = tool_ok && force_N > 0.0;
   ticks_without_force_ = touching ? 0 : ticks_without_force_ + 1;
   const bool in_contact = touching || (tool_ok && was_in_contact_ && ticks_without_force_ < kContactEndTicks);
   const double depth_m = tool_ok ? DepthIntoRestWall_m(tip_W_m_) : 0.0;
-  status_.tip_depth_m = std::max(0.0, depth_m);
+  outputs_.status.tip_depth_m = std::max(0.0, depth_m);
   if (!touching && in_contact) return;  // grace period: keep the last contact plane and the events quiet
-  force_model_ = LocalForceModel{};
+  outputs_.force_model = LocalForceModel{};
   if (in_contact) {
     // The device renders a plane through the physics' tip along the force,
     // as stiff as the settled wall at this depth: k (anchor - tip)·n = F.
-    const Eigen::Vector3d n = tool_force_W_N_ / force_N;  // the wall pushes the tool out along n
+    const Eigen::Vector3d n = outputs_.tool_force_W_N / force_N;  // the wall pushes the tool out along n
     // The curve is the crest's; off it the wall is stiffer at the same
     // depth, so the slope is read where the crest's curve carries this
     // force (0.6 mm off the crest: within 16 % of the local slope, 19 %
@@ -406,17 +431,17 @@ void VesselScene::UpdateOutputs(const ToolInput& tool, bool tool_ok) {
     const double at_m = settled_curve_.DepthAtForce_m(force_N);
     const double stiffness = std::min(settled_curve_.SlopeAt_N_per_m(at_m, kMinRenderStiffness_N_per_m),
                                       params_.render_stiffness_max_N_per_m);
-    force_model_.state = ContactState::kContact;
-    force_model_.normal_W = n;
-    force_model_.stiffness_N_per_m = stiffness;
-    force_model_.anchor_W_m = tip_W_m_ + (force_N / stiffness) * n;
+    outputs_.force_model.state = ContactState::kContact;
+    outputs_.force_model.normal_W = n;
+    outputs_.force_model.stiffness_N_per_m = stiffness;
+    outputs_.force_model.anchor_W_m = tip_W_m_ + (force_N / stiffness) * n;
   } else {
-    tool_force_W_N_.setZero();
+    outputs_.tool_force_W_N.setZero();
   }
-  status_.current_layer = in_contact ? 0 : -1;
+  outputs_.status.current_layer = in_contact ? 0 : -1;
   if (in_contact != was_in_contact_) {
-    events_.Push({time_s_, in_contact ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd, 0,
-                  tool_ok ? tool.tip_W_m : Eigen::Vector3d::Zero()});
+    outputs_.events.Push({time_s_, in_contact ? SceneEventKind::kContactBegin : SceneEventKind::kContactEnd, 0,
+                          tool_ok ? tool.tip_W_m : Eigen::Vector3d::Zero()});
     was_in_contact_ = in_contact;
   }
 }
@@ -488,7 +513,7 @@ void VesselScene::MeasureSettledCurve() {
     double before = 0.0, now = 0.0;
     for (int tick = 0; tick < kMaxSettleTicks; ++tick) {
       Step(tool, 1e-3);
-      now = tool_force_W_N_.z();
+      now = outputs_.tool_force_W_N.z();
       if (tick % kSettleWindowTicks != kSettleWindowTicks - 1) continue;
       if (tip_W_m_ == tool.tip_W_m && std::abs(now - before) <= kSettledFraction * std::abs(now)) break;
       before = now;
@@ -501,9 +526,8 @@ void VesselScene::MeasureSettledCurve() {
 void VesselScene::RecoverFromBlowup() {
   wall_.x_m = inflated_m_;  // same sizes: copies, no allocation
   wall_.v_m_per_s.setZero();
-  tool_force_W_N_.setZero();
-  ++status_.numerical_resets;
-  events_.Push({time_s_, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
+  outputs_.tool_force_W_N.setZero();
+  LogNumericalReset(time_s_);
 }
 
 void VesselScene::Reset() {
@@ -517,17 +541,12 @@ void VesselScene::Reset() {
   ticks_without_force_ = 0;
   strain_energy_J_ = 0.0;
   surface_m_ = geometry_.surface_m;
-  tool_force_W_N_.setZero();
-  force_model_ = LocalForceModel{};
-  status_.current_layer = -1;
-  status_.tip_depth_m = 0.0;
-  events_.Push({0.0, SceneEventKind::kReset, -1, Eigen::Vector3d::Zero()});
-  reset_epoch_ = ResetEpoch::Now(*this);
+  FinishReset();
 }
 
 std::uint64_t VesselScene::StateHash() const {
   StateHasher h;
-  AddCommonSceneState(h, *this, reset_epoch_);
+  AddCommonSceneState(h, *this, outputs_.reset_epoch);
   // The surface is a function of the nodes; λ and the candidates are per-step scratch.
   h.Add(wall_.x_m).Add(wall_.v_m_per_s).Add(tip_W_m_).Add(tip_placed_).Add(was_in_contact_).Add(ticks_without_force_);
   return h.Value();

@@ -86,8 +86,49 @@ class SkinCutter {
   // Rest-plane distance to the sampled segment (beyond far_m_: a lower bound).
   double DistanceToSegment(const Eigen::Vector3d& p) const;
   bool SegmentCrossesZone(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
+
+  // CutAlongLastSegment's steps, in order.
+  void SampleLastSegment(const SkinMesh& skin, const IncisionCurve& curve);
+  void FindSweptTriangles(const SkinMesh& skin);
+  bool LinkHoleBorder(const MeshTopology& topo);  // true: the hole is pinched
   bool PlanChains(const SkinMesh& skin, const IncisionCurve& curve);
   void PlanTriangles(const SkinMesh& skin, const IncisionCurve& curve);
+  bool FitsCapacities(const SkinMesh& skin) const;
+  void RemoveSweptVolume(SkinMesh& skin, CutStats& st);
+  void RemoveSpringsAcrossZone(SkinMesh& skin, CutStats& st);
+  void AddWoundTriangles(SkinMesh& skin, CutStats& st);
+  void UpdateAroundCut(SkinMesh& skin);
+  void ClearCutScratch();
+  CutStats Refused(CutStats st);  // scratch cleared, st marked refused
+  void Touch(std::uint32_t v);    // v's mass is re-lumped after the cut
+  std::uint32_t WoundNode(SkinMesh& skin, std::uint32_t entry, CutStats& st);
+  void AddEdgeSprings(SkinMesh& skin, const Tri& t, CutStats& st);
+
+  // PlanChains' steps, in order.
+  bool WalkChain(std::uint32_t start, bool closed);
+  bool WalkBorderChains();
+  void MatchBorderToCurve(const SkinMesh& skin, const IncisionCurve& curve);
+  void StartLoopAtCurveStart();
+  void KeepMatchesFromFolding(double end_s);
+  void PlaceCurveLips(const SkinMesh& skin, const IncisionCurve& curve);
+  void CollectSharedParams(const SkinMesh& skin, const IncisionCurve& curve);
+  void MergeCloseParams(const SkinMesh& skin, const IncisionCurve& curve);
+  void SnapSideMatches();
+  void AssignOldLipSides(std::size_t chain, double end_s);
+  void LinkSideNodes(const IncisionCurve& curve, std::size_t chain);
+  // The chain entry step places from entry i of chain (nullptr past an open chain's ends).
+  const ChainNode* ChainNeighbour(std::size_t chain, std::uint32_t i, int step) const;
+  bool IsOwnLip(const ChainNode& n) const;  // a border node on the curve: its own wound node
+
+  // PlanTriangles' steps.
+  std::uint32_t LipEntry(std::uint32_t lip) const;  // a Tri entry for lips_[lip]
+  Eigen::Vector3d RestOf(const SkinMesh& skin, std::uint32_t entry) const;
+  void CollectRun(const IncisionCurve& curve, const ChainNode& a, const ChainNode& b, std::uint32_t ia);
+  bool SoundTriangle(const SkinMesh& skin, std::uint32_t x, std::uint32_t y, std::uint32_t z) const;
+  void EmitTriangle(std::uint32_t x, std::uint32_t y, std::uint32_t z);
+  void ZipPairToRun(const SkinMesh& skin, const ChainNode& a, const ChainNode& b);
+  void DropDegenerateTriangles(const SkinMesh& skin);
+
   std::size_t ParamIndex(double s) const;  // of the shared parameter s
   // The wound node on `side` at shared parameter k (created on first use).
   std::uint32_t SideLip(const IncisionCurve& curve, int side, std::size_t k, std::uint32_t from_chain);

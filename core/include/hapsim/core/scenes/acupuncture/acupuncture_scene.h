@@ -46,14 +46,13 @@
 
 #include "hapsim/core/needle/force_net.h"
 #include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
-#include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/core/scenes/scene_state_hash.h"
+#include "hapsim/core/scenes/scene_outputs.h"
 #include "hapsim/core/shf/layered_sh_body.h"
 
 namespace hapsim::core {
 
-class AcupunctureScene final : public Scene {
+class AcupunctureScene final : public SceneWithOutputs {
  public:
   explicit AcupunctureScene(const AcupunctureParams& params);
 
@@ -63,11 +62,6 @@ class AcupunctureScene final : public Scene {
   double SimTime_s() const override { return t_s_; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return vertices_m_; }
   const MeshTopology& Topology() const override { return topology_; }
-  LocalForceModel ForceModel() const override { return force_model_; }
-  Eigen::Vector3d ToolForce_W_N() const override { return force_W_N_; }
-  std::span<const SceneEvent> Events() const override { return events_.View(); }
-  std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
-  const SceneStatus& Status() const override { return status_; }
   std::uint64_t StateHash() const override;
 
   // Diagnostics for validation and tests.
@@ -122,11 +116,6 @@ class AcupunctureScene final : public Scene {
   Eigen::Vector3d stick_W_m_ = Eigen::Vector3d::Zero();  // where the shaft sticks (law 1)
 
   double t_s_ = 0.0;
-  Eigen::Vector3d force_W_N_ = Eigen::Vector3d::Zero();
-  LocalForceModel force_model_;
-  EventLog events_;
-  SceneStatus status_;
-  ResetEpoch reset_epoch_;
 
   // Display.
   int patch_vertices_ = 0;           // per layer

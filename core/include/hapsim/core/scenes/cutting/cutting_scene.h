@@ -44,14 +44,13 @@
 #include "hapsim/core/cutting/skin_mesh.h"
 #include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/scenes/cutting/cutting_params.h"
-#include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/core/scenes/scene_state_hash.h"
+#include "hapsim/core/scenes/scene_outputs.h"
 #include "hapsim/core/spatial/uniform_grid.h"
 
 namespace hapsim::core {
 
-class CuttingScene final : public Scene {
+class CuttingScene final : public SceneWithOutputs {
  public:
   explicit CuttingScene(const CuttingParams& params);  // throws std::invalid_argument on bad params
 
@@ -61,11 +60,6 @@ class CuttingScene final : public Scene {
   double SimTime_s() const override { return skin_.state.t_s; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return skin_.state.x_m; }
   const MeshTopology& Topology() const override { return skin_.topology; }
-  LocalForceModel ForceModel() const override { return force_model_; }
-  Eigen::Vector3d ToolForce_W_N() const override { return force_W_N_; }
-  std::span<const SceneEvent> Events() const override { return events_.View(); }
-  std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
-  const SceneStatus& Status() const override { return status_; }
   std::uint64_t StateHash() const override;
 
   // For validation and tests.
@@ -80,10 +74,15 @@ class CuttingScene final : public Scene {
   Cylinder BladeOf(const ToolInput& tool) const;
 
  private:
+  void AddBladeToMesh();                                  // at build
+  void CheckStepIsStable(double min_node_mass_kg) const;  // at build; throws std::invalid_argument
   void StepOnce(const ToolInput& tool, double h_s);
   void UpdateCut(const ToolInput& tool, const Cylinder& blade);
   void EndCut(const Eigen::Vector3d& where);
   void ApplyContact(const ToolInput& tool, const Cylinder& blade);
+  void PushNodesOffBlade(const Cylinder& blade);
+  void ResistCuttingDeeper(const ToolInput& tool);
+  void PressSkinUnderTip(const ToolInput& tool);
   Eigen::Vector3d IntoTissue(std::uint32_t lip_node) const;
   void UpdateForceModel(const ToolInput& tool);
   void UpdateBladeMesh(const Cylinder& blade);
@@ -108,17 +107,12 @@ class CuttingScene final : public Scene {
   std::array<std::uint32_t, 8> blade_slots_{};
   std::vector<std::uint32_t> colliding_;
   std::vector<std::uint32_t> loaded_nodes_;  // nodes given contact forces this step
-  double cut_normal_N_ = 0.0;                // this step's push against cutting deeper (in force_W_N_.z())
+  double cut_normal_N_ = 0.0;                // this step's push against cutting deeper (in outputs_.tool_force_W_N.z())
 
   bool cutting_ = false;
   bool in_contact_ = false;
   Eigen::Vector2d last_surface_point_ = Eigen::Vector2d::Zero();
   CutStats cut_totals_;
-  Eigen::Vector3d force_W_N_ = Eigen::Vector3d::Zero();
-  LocalForceModel force_model_;
-  EventLog events_;
-  SceneStatus status_;
-  ResetEpoch reset_epoch_;
   // StateHash's cache: the digest of the topology-dependent model arrays.
   mutable std::uint64_t digest_version_ = ~std::uint64_t{0};
   mutable std::uint64_t topology_digest_ = 0;

@@ -24,14 +24,13 @@
 #include <vector>
 
 #include "hapsim/core/msm/integrator_kind.h"
-#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"
+#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/units.h"
-#include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/core/scenes/scene_state_hash.h"
+#include "hapsim/core/scenes/scene_outputs.h"
 #include "hapsim/core/scenes/tissue_block/tissue_block_params.h"
 
 namespace hapsim::core {
@@ -40,7 +39,7 @@ namespace hapsim::core {
 // validation and the benchmarks to build larger patches of the same tissue).
 MsmDef MakeTissueGridDef(const TissueBlockParams& params);
 
-class TissueBlockScene final : public Scene {
+class TissueBlockScene final : public SceneWithOutputs {
  public:
   // Throws std::invalid_argument for bad parameters, including a dt_s above
   // the integrator's critical step (with the limit in the message).
@@ -52,11 +51,6 @@ class TissueBlockScene final : public Scene {
   double SimTime_s() const override { return state_.t_s; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return state_.x_m; }
   const MeshTopology& Topology() const override { return topology_; }
-  LocalForceModel ForceModel() const override { return force_model_; }
-  Eigen::Vector3d ToolForce_W_N() const override { return tool_force_W_N_; }
-  std::span<const SceneEvent> Events() const override { return events_.View(); }
-  std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
-  const SceneStatus& Status() const override { return status_; }
   std::uint64_t StateHash() const override;
 
   // For tests and tools.
@@ -98,11 +92,6 @@ class TissueBlockScene final : public Scene {
   bool was_in_contact_ = false;
 
   MeshTopology topology_;  // the grid's nodes and triangles; never edited
-  LocalForceModel force_model_;
-  Eigen::Vector3d tool_force_W_N_ = Eigen::Vector3d::Zero();
-  EventLog events_;
-  SceneStatus status_;
-  ResetEpoch reset_epoch_;
 };
 
 }  // namespace hapsim::core

@@ -51,9 +51,8 @@
 #include "hapsim/core/meshless/meshless_model.h"
 #include "hapsim/core/meshless/mls_surface_map.h"
 #include "hapsim/core/pbd/xpbd.h"
-#include "hapsim/core/scenes/event_log.h"
 #include "hapsim/core/scenes/scene.h"
-#include "hapsim/core/scenes/scene_state_hash.h"
+#include "hapsim/core/scenes/scene_outputs.h"
 #include "hapsim/core/scenes/vessel/vessel_geometry.h"
 #include "hapsim/core/scenes/vessel/vessel_params.h"
 #include "hapsim/core/scenes/vessel/vessel_settled_curve.h"
@@ -61,7 +60,7 @@
 
 namespace hapsim::core {
 
-class VesselScene final : public Scene {
+class VesselScene final : public SceneWithOutputs {
  public:
   explicit VesselScene(const VesselParams& params);  // throws std::invalid_argument
 
@@ -71,11 +70,6 @@ class VesselScene final : public Scene {
   double SimTime_s() const override { return time_s_; }
   const Eigen::Matrix3Xd& Vertices_m() const override { return surface_m_; }
   const MeshTopology& Topology() const override { return topology_; }
-  LocalForceModel ForceModel() const override { return force_model_; }
-  Eigen::Vector3d ToolForce_W_N() const override { return tool_force_W_N_; }
-  std::span<const SceneEvent> Events() const override { return events_.View(); }
-  std::uint64_t EventsTotal() const override { return events_.TotalPushed(); }
-  const SceneStatus& Status() const override { return status_; }
   std::uint64_t StateHash() const override;
 
   // For tests, validation and benchmarks.
@@ -111,8 +105,15 @@ class VesselScene final : public Scene {
     VesselScene& scene_;
   };
 
+  // The constructor's steps, in order.
+  void BuildMeshlessWall(double support_radius_m);
   void BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch);
   void BuildFoundation(const VesselGeometryDef& def);
+  void ScaleMassesForStability();  // throws std::invalid_argument if even the scaled step is unstable
+  void BuildWallStep(std::vector<DistanceConstraint> stretch);
+  void SizeStepScratch(double spacing_m);
+  void BuildDisplay(double support_radius_m);
+  void OrientLumenPressure();
   void MeasureSettledCurve();              // at build: settled_curve_
   void Inflate();                          // at build: the wall settled under the lumen pressure, inflated_m_
   void AddLumenPressure();                 // the pressure's nodal forces on the inner wall, into wall_.f_ext_N
@@ -165,11 +166,6 @@ class VesselScene final : public Scene {
   Eigen::Matrix3Xd surface_m_;
 
   MeshTopology topology_;
-  LocalForceModel force_model_;
-  Eigen::Vector3d tool_force_W_N_ = Eigen::Vector3d::Zero();
-  EventLog events_;
-  SceneStatus status_;
-  ResetEpoch reset_epoch_;
 };
 
 }  // namespace hapsim::core
