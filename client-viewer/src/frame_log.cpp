@@ -42,10 +42,45 @@ bool ReadFrameLog(const std::string& path, std::vector<hapsim::v1::Frame>* frame
   return ReadFrameLog(in, path, frames, error);
 }
 
+namespace {
+
+enum class FrameRead { kFrame, kEnd, kBad };
+
+// Frame number `index` of the recording `name`, length-prefixed.
+// `left_bytes` (-1: unknown) bounds any claimed length: a damaged header
+// cannot make the reader allocate 64 MiB for a frame that is not there.
+FrameRead ReadOneFrame(std::istream& in, const std::string& name, std::size_t index, std::streamoff left_bytes,
+                       std::string* buffer, hapsim::v1::Frame* frame, std::string* error) {
+  auto which = [&] { return name + ": frame " + std::to_string(index); };
+  unsigned char length[4];
+  if (!in.read(reinterpret_cast<char*>(length), 4)) {
+    if (in.gcount() == 0) return FrameRead::kEnd;
+    *error = name + ": truncated after frame " + std::to_string(index);
+    return FrameRead::kBad;
+  }
+  const std::uint32_t n =
+      length[0] | (length[1] << 8) | (length[2] << 16) | (static_cast<std::uint32_t>(length[3]) << 24);
+  if (n > kMaxFrameBytes) {
+    *error = which() + " claims " + std::to_string(n) + " bytes (max 64 MiB)";
+    return FrameRead::kBad;
+  }
+  const bool past_the_end = left_bytes >= 0 && static_cast<std::streamoff>(n) > left_bytes - 4;
+  if (!past_the_end) buffer->resize(n);
+  if (past_the_end || !in.read(buffer->data(), n)) {
+    *error = which() + " is truncated";
+    return FrameRead::kBad;
+  }
+  if (!frame->ParseFromString(*buffer)) {
+    *error = which() + " does not parse";
+    return FrameRead::kBad;
+  }
+  return FrameRead::kFrame;
+}
+
+}  // namespace
+
 bool ReadFrameLog(std::istream& in, const std::string& name, std::vector<hapsim::v1::Frame>* frames,
                   std::string* error) {
-  // What is left to read bounds any claimed length: a damaged header cannot
-  // make the reader allocate 64 MiB for a frame that is not there.
   const std::istream::pos_type start = in.tellg();
   in.seekg(0, std::ios::end);
   const std::istream::pos_type end = in.tellg();
@@ -59,32 +94,17 @@ bool ReadFrameLog(std::istream& in, const std::string& name, std::vector<hapsim:
   frames->clear();
   std::string buffer;
   while (true) {
-    unsigned char length[4];
-    if (!in.read(reinterpret_cast<char*>(length), 4)) {
-      if (in.gcount() == 0) return true;
-      *error = name + ": truncated after frame " + std::to_string(frames->size());
-      return false;
-    }
-    const std::uint32_t n = length[0] | (length[1] << 8) | (length[2] << 16) | (static_cast<std::uint32_t>(length[3]) << 24);
-    if (n > kMaxFrameBytes) {
-      *error = name + ": frame " + std::to_string(frames->size()) + " claims " + std::to_string(n) + " bytes (max 64 MiB)";
-      return false;
-    }
-    if (sized && static_cast<std::streamoff>(n) > static_cast<std::streamoff>(end - in.tellg())) {
-      *error = name + ": frame " + std::to_string(frames->size()) + " is truncated";
-      return false;
-    }
-    buffer.resize(n);
-    if (!in.read(buffer.data(), n)) {
-      *error = name + ": frame " + std::to_string(frames->size()) + " is truncated";
-      return false;
-    }
+    const std::streamoff left = sized ? static_cast<std::streamoff>(end - in.tellg()) : -1;
     hapsim::v1::Frame frame;
-    if (!frame.ParseFromString(buffer)) {
-      *error = name + ": frame " + std::to_string(frames->size()) + " does not parse";
-      return false;
+    switch (ReadOneFrame(in, name, frames->size(), left, &buffer, &frame, error)) {
+      case FrameRead::kEnd:
+        return true;
+      case FrameRead::kBad:
+        return false;
+      case FrameRead::kFrame:
+        frames->push_back(std::move(frame));
+        break;
     }
-    frames->push_back(std::move(frame));
   }
 }
 

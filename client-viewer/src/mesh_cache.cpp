@@ -32,6 +32,163 @@ bool Bad(std::string* why, const std::string& text) {
 enum EditKind : std::uint32_t { kAddVertex = 0, kRemoveVertex = 1, kAddTriangle = 2, kRemoveTriangle = 3 };
 constexpr std::uint32_t kMaxSlots = 1u << 26;  // refuse absurd capacities before allocating
 
+// A keyframe's slots once checked: which are live, and how many live
+// triangles use each vertex.
+struct KeyframeSlots {
+  std::vector<std::uint8_t> vertex_live, triangle_live;
+  std::vector<std::uint32_t> vertex_uses;
+};
+
+// Quantum, array sizes and capacities.
+bool CheckKeyframeSizes(const hapsim::v1::Keyframe& key, std::string* why) {
+  const double quantum = key.quantum_m();
+  if (!(quantum > 0.0 && std::isfinite(quantum))) return Bad(why, "bad quantum");
+  if (key.positions_q_size() % 3 != 0) return Bad(why, "positions not a multiple of 3");
+  if (key.triangles_size() != 3 * key.triangle_parts_size()) {
+    return Bad(why, "triangles and triangle parts do not match");
+  }
+  const auto n_vertices = static_cast<std::uint32_t>(key.positions_q_size() / 3);
+  const auto n_triangles = static_cast<std::uint32_t>(key.triangle_parts_size());
+  if (key.vertex_capacity() < n_vertices || key.triangle_capacity() < n_triangles ||
+      key.vertex_capacity() > kMaxSlots || key.triangle_capacity() > kMaxSlots) {
+    return Bad(why, "slot capacities smaller than the mesh or absurd");
+  }
+  return true;
+}
+
+// Live flags from the free-slot lists: each free slot below the last used one, once.
+bool MarkFreeSlots(const hapsim::v1::Keyframe& key, KeyframeSlots* slots, std::string* why) {
+  slots->vertex_live.assign(static_cast<std::size_t>(key.positions_q_size() / 3), 1);
+  slots->triangle_live.assign(static_cast<std::size_t>(key.triangle_parts_size()), 1);
+  for (const auto v : key.free_vertices()) {
+    if (v >= slots->vertex_live.size() || !slots->vertex_live[v]) return Bad(why, "bad free vertex slot");
+    slots->vertex_live[v] = 0;
+  }
+  for (const auto t : key.free_triangles()) {
+    if (t >= slots->triangle_live.size() || !slots->triangle_live[t]) return Bad(why, "bad free triangle slot");
+    slots->triangle_live[t] = 0;
+  }
+  return true;
+}
+
+// Every live triangle names three distinct live vertices and a known part.
+bool CountVertexUses(const hapsim::v1::Keyframe& key, KeyframeSlots* slots, std::string* why) {
+  const auto n_vertices = static_cast<std::uint32_t>(slots->vertex_live.size());
+  const auto& vlive = slots->vertex_live;
+  slots->vertex_uses.assign(n_vertices, 0);
+  for (std::uint32_t t = 0; t < slots->triangle_live.size(); ++t) {
+    if (!slots->triangle_live[t]) continue;
+    const std::uint32_t a = key.triangles(static_cast<int>(3 * t)), b = key.triangles(static_cast<int>(3 * t + 1)),
+                        c = key.triangles(static_cast<int>(3 * t + 2));
+    if (a >= n_vertices || b >= n_vertices || c >= n_vertices || !vlive[a] || !vlive[b] || !vlive[c] || a == b ||
+        b == c || a == c) {
+      return Bad(why, "triangle " + std::to_string(t) + " names a free, repeated or unknown vertex");
+    }
+    if (key.triangle_parts(static_cast<int>(t)) >= static_cast<std::uint32_t>(key.part_names_size())) {
+      return Bad(why, "triangle " + std::to_string(t) + " has an unknown part");
+    }
+    ++slots->vertex_uses[a];
+    ++slots->vertex_uses[b];
+    ++slots->vertex_uses[c];
+  }
+  return true;
+}
+
+// The slots a frame's topology edits touch, laid over the cache's: the
+// edits are replayed here first, so a bad edit anywhere refuses the frame
+// before anything changes.
+class SlotOverlay {
+ public:
+  SlotOverlay(const MeshCache& cache, const std::vector<std::uint32_t>& cache_uses)
+      : cache_(cache), cache_uses_(cache_uses) {}
+  bool vertex_live(std::uint32_t v) const {
+    const auto it = vlive_.find(v);
+    return it != vlive_.end() ? it->second : cache_.vertex_live(v);
+  }
+  bool triangle_live(std::uint32_t t) const {
+    const auto it = tlive_.find(t);
+    return it != tlive_.end() ? it->second : cache_.triangle_live(t);
+  }
+  std::uint32_t& vertex_uses(std::uint32_t v) {
+    const auto it = uses_.find(v);
+    if (it != uses_.end()) return it->second;
+    return uses_[v] = v < cache_uses_.size() ? cache_uses_[v] : 0;
+  }
+  std::array<std::uint32_t, 3> triangle(std::uint32_t t) const {
+    const auto it = tverts_.find(t);
+    return it != tverts_.end() ? it->second : cache_.triangle(t);
+  }
+  void SetVertexLive(std::uint32_t v, bool live) { vlive_[v] = live; }
+  void AddTriangle(std::uint32_t t, const std::array<std::uint32_t, 3>& vertices) {
+    tlive_[t] = true;
+    tverts_[t] = vertices;
+    for (const auto v : vertices) ++vertex_uses(v);
+  }
+  void RemoveTriangle(std::uint32_t t) {
+    for (const auto v : triangle(t)) --vertex_uses(v);
+    tlive_[t] = false;
+  }
+
+ private:
+  const MeshCache& cache_;
+  const std::vector<std::uint32_t>& cache_uses_;
+  std::map<std::uint32_t, bool> vlive_, tlive_;
+  std::map<std::uint32_t, std::uint32_t> uses_;
+  std::map<std::uint32_t, std::array<std::uint32_t, 3>> tverts_;
+};
+
+struct SlotLimits {
+  std::uint32_t vertex_capacity, triangle_capacity;
+  std::size_t parts;
+};
+
+// One edit (`e` points at its kind; an add-triangle edit has all 6 values)
+// checked against the overlay, and replayed on it.
+bool CheckEdit(const std::uint32_t* e, const SlotLimits& limits, SlotOverlay* o, std::string* why) {
+  const std::uint32_t kind = e[0], slot = e[1];
+  switch (kind) {
+    case kAddVertex:
+      if (slot >= limits.vertex_capacity || o->vertex_live(slot))
+        return Bad(why, "add of a live or out-of-range vertex slot");
+      o->SetVertexLive(slot, true);
+      o->vertex_uses(slot) = 0;
+      return true;
+    case kRemoveVertex:
+      if (!o->vertex_live(slot)) return Bad(why, "removal of a free vertex slot");
+      if (o->vertex_uses(slot) != 0) return Bad(why, "removal of a vertex a live triangle still uses");
+      o->SetVertexLive(slot, false);
+      return true;
+    case kAddTriangle: {
+      const std::uint32_t part = e[2], a = e[3], b = e[4], c = e[5];
+      if (slot >= limits.triangle_capacity || o->triangle_live(slot))
+        return Bad(why, "add of a live or out-of-range triangle slot");
+      if (part >= limits.parts) return Bad(why, "triangle with an unknown part");
+      if (!o->vertex_live(a) || !o->vertex_live(b) || !o->vertex_live(c) || a == b || b == c || a == c)
+        return Bad(why, "triangle naming a free or repeated vertex");
+      o->AddTriangle(slot, {a, b, c});
+      return true;
+    }
+    case kRemoveTriangle:
+      if (!o->triangle_live(slot)) return Bad(why, "removal of a free triangle slot");
+      o->RemoveTriangle(slot);
+      return true;
+    default:
+      return Bad(why, "unknown edit kind " + std::to_string(kind));
+  }
+}
+
+// Whether each vertex slot the edits add or remove is live after them.
+std::map<std::uint32_t, bool> VerticesLiveAfter(const hapsim::v1::TopologyDelta& topology, std::uint64_t* edits) {
+  std::map<std::uint32_t, bool> live_after;
+  const auto& e = topology.edits();
+  *edits = 0;
+  for (int i = 0; i < e.size(); i += (e[i] == kAddTriangle ? 6 : 2), ++*edits) {
+    if (e[i] == kAddVertex) live_after[e[i + 1]] = true;
+    if (e[i] == kRemoveVertex) live_after[e[i + 1]] = false;
+  }
+  return live_after;
+}
+
 }  // namespace
 
 ApplyResult MeshCache::Apply(const hapsim::v1::Frame& frame, std::string* why) {
@@ -42,54 +199,22 @@ ApplyResult MeshCache::Apply(const hapsim::v1::Frame& frame, std::string* why) {
 
 ApplyResult MeshCache::ApplyKeyframe(const hapsim::v1::Frame& frame, std::string* why) {
   const auto& key = frame.keyframe();
-  const double quantum = key.quantum_m();
-  if (!(quantum > 0.0 && std::isfinite(quantum))) return Fail(ApplyResult::kMalformed, why, "bad quantum");
-  if (key.positions_q_size() % 3 != 0) return Fail(ApplyResult::kMalformed, why, "positions not a multiple of 3");
-  if (key.triangles_size() != 3 * key.triangle_parts_size()) {
-    return Fail(ApplyResult::kMalformed, why, "triangles and triangle parts do not match");
+  KeyframeSlots slots;
+  if (!CheckKeyframeSizes(key, why) || !MarkFreeSlots(key, &slots, why) || !CountVertexUses(key, &slots, why)) {
+    return ApplyResult::kMalformed;
   }
-  const auto n_vertices = static_cast<std::uint32_t>(key.positions_q_size() / 3);
-  const auto n_triangles = static_cast<std::uint32_t>(key.triangle_parts_size());
-  if (key.vertex_capacity() < n_vertices || key.triangle_capacity() < n_triangles ||
-      key.vertex_capacity() > kMaxSlots || key.triangle_capacity() > kMaxSlots) {
-    return Fail(ApplyResult::kMalformed, why, "slot capacities smaller than the mesh or absurd");
-  }
-  std::vector<std::uint8_t> vlive(n_vertices, 1), tlive(n_triangles, 1);
-  for (const auto v : key.free_vertices()) {
-    if (v >= n_vertices || !vlive[v]) return Fail(ApplyResult::kMalformed, why, "bad free vertex slot");
-    vlive[v] = 0;
-  }
-  for (const auto t : key.free_triangles()) {
-    if (t >= n_triangles || !tlive[t]) return Fail(ApplyResult::kMalformed, why, "bad free triangle slot");
-    tlive[t] = 0;
-  }
-  std::vector<std::uint32_t> uses(n_vertices, 0);
-  for (std::uint32_t t = 0; t < n_triangles; ++t) {
-    if (!tlive[t]) continue;
-    const std::uint32_t a = key.triangles(static_cast<int>(3 * t)), b = key.triangles(static_cast<int>(3 * t + 1)),
-                        c = key.triangles(static_cast<int>(3 * t + 2));
-    if (a >= n_vertices || b >= n_vertices || c >= n_vertices || !vlive[a] || !vlive[b] || !vlive[c] || a == b ||
-        b == c || a == c) {
-      return Fail(ApplyResult::kMalformed, why, "triangle " + std::to_string(t) + " names a free, repeated or unknown vertex");
-    }
-    if (key.triangle_parts(static_cast<int>(t)) >= static_cast<std::uint32_t>(key.part_names_size())) {
-      return Fail(ApplyResult::kMalformed, why, "triangle " + std::to_string(t) + " has an unknown part");
-    }
-    ++uses[a];
-    ++uses[b];
-    ++uses[c];
-  }
-  quantum_m_ = quantum;
+  quantum_m_ = key.quantum_m();
   vertex_capacity_ = key.vertex_capacity();
   triangle_capacity_ = key.triangle_capacity();
   q_.assign(key.positions_q().begin(), key.positions_q().end());
-  vertex_live_ = std::move(vlive);
-  vertex_uses_ = std::move(uses);
-  triangle_live_ = std::move(tlive);
+  vertex_live_ = std::move(slots.vertex_live);
+  vertex_uses_ = std::move(slots.vertex_uses);
+  triangle_live_ = std::move(slots.triangle_live);
+  const std::size_t n_triangles = triangle_live_.size();
   triangles_.resize(n_triangles);
   triangle_parts_.resize(n_triangles);
-  for (std::uint32_t t = 0; t < n_triangles; ++t) {
-    for (int k = 0; k < 3; ++k) triangles_[t][static_cast<std::size_t>(k)] = key.triangles(static_cast<int>(3 * t) + k);
+  for (std::size_t t = 0; t < n_triangles; ++t) {
+    for (std::size_t k = 0; k < 3; ++k) triangles_[t][k] = key.triangles(static_cast<int>(3 * t + k));
     triangle_parts_[t] = static_cast<std::uint16_t>(key.triangle_parts(static_cast<int>(t)));
   }
   live_vertices_ = live_triangles_ = 0;
@@ -103,69 +228,16 @@ ApplyResult MeshCache::ApplyKeyframe(const hapsim::v1::Frame& frame, std::string
   return ApplyResult::kApplied;
 }
 
-// Replays the edits on a small overlay of the slots they touch, so a bad
-// edit anywhere refuses the frame before anything changes.
 bool MeshCache::CheckTopology(const hapsim::v1::TopologyDelta& topo, std::string* why) const {
-  std::map<std::uint32_t, bool> vlive, tlive;
-  std::map<std::uint32_t, std::uint32_t> uses;
-  std::map<std::uint32_t, std::array<std::uint32_t, 3>> tverts;
-  auto vertex_live = [&](std::uint32_t v) {
-    const auto it = vlive.find(v);
-    return it != vlive.end() ? it->second : this->vertex_live(v);
-  };
-  auto vertex_uses = [&](std::uint32_t v) -> std::uint32_t& {
-    const auto it = uses.find(v);
-    if (it != uses.end()) return it->second;
-    return uses[v] = v < vertex_uses_.size() ? vertex_uses_[v] : 0;
-  };
-  auto triangle_live = [&](std::uint32_t t) {
-    const auto it = tlive.find(t);
-    return it != tlive.end() ? it->second : this->triangle_live(t);
-  };
+  SlotOverlay overlay(*this, vertex_uses_);
+  const SlotLimits limits{vertex_capacity_, triangle_capacity_, part_names_.size()};
   const auto& e = topo.edits();
   for (int i = 0; i < e.size();) {
     if (i + 2 > e.size()) return Bad(why, "truncated edit");
-    const std::uint32_t kind = e[i], slot = e[i + 1];
-    switch (kind) {
-      case kAddVertex:
-        if (slot >= vertex_capacity_ || vertex_live(slot)) return Bad(why, "add of a live or out-of-range vertex slot");
-        vlive[slot] = true;
-        vertex_uses(slot) = 0;
-        i += 2;
-        break;
-      case kRemoveVertex:
-        if (!vertex_live(slot)) return Bad(why, "removal of a free vertex slot");
-        if (vertex_uses(slot) != 0) return Bad(why, "removal of a vertex a live triangle still uses");
-        vlive[slot] = false;
-        i += 2;
-        break;
-      case kAddTriangle: {
-        if (i + 6 > e.size()) return Bad(why, "truncated triangle edit");
-        const std::uint32_t part = e[i + 2], a = e[i + 3], b = e[i + 4], c = e[i + 5];
-        if (slot >= triangle_capacity_ || triangle_live(slot)) return Bad(why, "add of a live or out-of-range triangle slot");
-        if (part >= part_names_.size()) return Bad(why, "triangle with an unknown part");
-        if (!vertex_live(a) || !vertex_live(b) || !vertex_live(c) || a == b || b == c || a == c)
-          return Bad(why, "triangle naming a free or repeated vertex");
-        tlive[slot] = true;
-        tverts[slot] = {a, b, c};
-        ++vertex_uses(a);
-        ++vertex_uses(b);
-        ++vertex_uses(c);
-        i += 6;
-        break;
-      }
-      case kRemoveTriangle: {
-        if (!triangle_live(slot)) return Bad(why, "removal of a free triangle slot");
-        const auto it = tverts.find(slot);
-        const std::array<std::uint32_t, 3> v = it != tverts.end() ? it->second : triangles_[slot];
-        for (const auto x : v) --vertex_uses(x);
-        tlive[slot] = false;
-        i += 2;
-        break;
-      }
-      default:
-        return Bad(why, "unknown edit kind " + std::to_string(kind));
-    }
+    const int length = e[i] == kAddTriangle ? 6 : 2;
+    if (i + length > e.size()) return Bad(why, "truncated triangle edit");
+    if (!CheckEdit(e.data() + i, limits, &overlay, why)) return false;
+    i += length;
   }
   return true;
 }
@@ -223,51 +295,53 @@ ApplyResult MeshCache::ApplyDelta(const hapsim::v1::Frame& frame, std::string* w
                 "delta for topology " + std::to_string(from) + ", cache holds " + std::to_string(topology_version_));
   }
   if (edits && !CheckTopology(frame.topology(), why)) return ApplyResult::kMalformed;
+  if (!CheckMovedVertices(frame, why)) return ApplyResult::kMalformed;
+  if (edits) ApplyTopology(frame.topology());
+  MoveVertices(frame.delta());
+  topology_version_ = frame.topology_version();
+  last_seq_ = frame.seq();
+  return ApplyResult::kApplied;
+}
+
+// The delta's indices into scratch_indices_, each checked against the mesh
+// as it will be once the edits are in (a vertex the edits add beyond the
+// current slots is live afterwards).
+bool MeshCache::CheckMovedVertices(const hapsim::v1::Frame& frame, std::string* why) {
   const auto& d = frame.delta();
-  if (d.position_dq_size() != 3 * d.index_gaps_size()) {
-    return Fail(ApplyResult::kMalformed, why, "delta needs 3 position values per index");
-  }
-  // Indices are checked against the mesh as it will be once the edits are in.
-  // (A vertex the edits add beyond the current slots is live afterwards.)
-  std::map<std::uint32_t, bool> added;
-  if (edits) {
-    const auto& e = frame.topology().edits();
+  if (d.position_dq_size() != 3 * d.index_gaps_size()) return Bad(why, "delta needs 3 position values per index");
+  std::map<std::uint32_t, bool> live_after;
+  if (frame.has_topology()) {
     std::uint64_t count = 0;
-    for (int i = 0; i < e.size(); i += (e[i] == kAddTriangle ? 6 : 2), ++count) {
-      if (e[i] == kAddVertex) added[e[i + 1]] = true;
-      if (e[i] == kRemoveVertex) added[e[i + 1]] = false;
-    }
+    live_after = VerticesLiveAfter(frame.topology(), &count);
     // One edit per topology version: a frame that skips or repeats
     // versions would leave the cache out of step with the server.
+    const std::uint64_t from = frame.topology().from_version();
     if (frame.topology_version() != from + count) {
-      return Fail(ApplyResult::kMalformed, why,
-                  std::to_string(count) + " edits do not lead from topology " + std::to_string(from) + " to " +
-                      std::to_string(frame.topology_version()));
+      return Bad(why, std::to_string(count) + " edits do not lead from topology " + std::to_string(from) + " to " +
+                          std::to_string(frame.topology_version()));
     }
   }
   scratch_indices_.clear();
   std::uint64_t index = 0;
   for (int i = 0; i < d.index_gaps_size(); ++i) {
     index = i == 0 ? d.index_gaps(0) : index + d.index_gaps(i);
-    const auto it = index < kMaxSlots ? added.find(static_cast<std::uint32_t>(index)) : added.end();
-    const bool live_after = it != added.end() ? it->second : vertex_live(index);
-    if ((i > 0 && d.index_gaps(i) == 0) || !live_after) {
-      return Fail(ApplyResult::kMalformed, why, "delta vertex index not live, or not increasing");
-    }
+    const auto it = index < kMaxSlots ? live_after.find(static_cast<std::uint32_t>(index)) : live_after.end();
+    const bool live = it != live_after.end() ? it->second : vertex_live(index);
+    if ((i > 0 && d.index_gaps(i) == 0) || !live) return Bad(why, "delta vertex index not live, or not increasing");
     scratch_indices_.push_back(static_cast<std::uint32_t>(index));
   }
-  if (edits) ApplyTopology(frame.topology());
+  return true;
+}
+
+void MeshCache::MoveVertices(const hapsim::v1::MeshDelta& d) {
   for (std::size_t i = 0; i < scratch_indices_.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      std::int32_t& q = q_[3 * scratch_indices_[i] + static_cast<std::size_t>(k)];
+    for (std::size_t k = 0; k < 3; ++k) {
+      std::int32_t& q = q_[3 * scratch_indices_[i] + k];
       // Modular add: the encoder's narrowed 64-bit difference round-trips exactly.
       q = static_cast<std::int32_t>(static_cast<std::uint32_t>(q) +
-                                    static_cast<std::uint32_t>(d.position_dq(static_cast<int>(3 * i) + k)));
+                                    static_cast<std::uint32_t>(d.position_dq(static_cast<int>(3 * i + k))));
     }
   }
-  topology_version_ = frame.topology_version();
-  last_seq_ = frame.seq();
-  return ApplyResult::kApplied;
 }
 
 Eigen::Matrix3Xd MeshCache::Vertices_m() const {

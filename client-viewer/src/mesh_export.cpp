@@ -76,73 +76,82 @@ std::array<float, 3> PartColour(const std::string& name) {
   return found == kColours.end() ? std::array<float, 3>{0.7f, 0.7f, 0.7f} : found->second;
 }
 
-bool WriteGltf(const std::string& path, const CompactMesh& mesh, bool binary, std::string* error) {
-  if (!Check(mesh, error)) return false;
-  tinygltf::Model model;
-  model.asset.version = "2.0";
-  model.asset.generator = "hapsim";
-  const auto n = static_cast<std::size_t>(mesh.vertices_m.cols());
+namespace {
 
-  // One buffer: float32 positions, then each part's uint32 indices.
-  tinygltf::Buffer buffer;
-  std::vector<double> lo(3, std::numeric_limits<double>::infinity()), hi(3, -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const float x = static_cast<float>(mesh.vertices_m(k, static_cast<Eigen::Index>(i)));
-      Append(&buffer.data, x);
-      lo[static_cast<std::size_t>(k)] = std::min(lo[static_cast<std::size_t>(k)], static_cast<double>(x));
-      hi[static_cast<std::size_t>(k)] = std::max(hi[static_cast<std::size_t>(k)], static_cast<double>(x));
+// Float32 positions appended to `bytes`; their box into lo/hi (glTF wants it).
+void AppendGltfPositions(const CompactMesh& mesh, std::vector<unsigned char>* bytes, std::vector<double>* lo,
+                         std::vector<double>* hi) {
+  lo->assign(3, std::numeric_limits<double>::infinity());
+  hi->assign(3, -std::numeric_limits<double>::infinity());
+  for (Eigen::Index i = 0; i < mesh.vertices_m.cols(); ++i) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const float x = static_cast<float>(mesh.vertices_m(static_cast<Eigen::Index>(k), i));
+      Append(bytes, x);
+      (*lo)[k] = std::min((*lo)[k], static_cast<double>(x));
+      (*hi)[k] = std::max((*hi)[k], static_cast<double>(x));
     }
   }
-  const std::size_t positions_bytes = buffer.data.size();
+}
+
+std::vector<std::vector<std::uint32_t>> TrianglesByPart(const CompactMesh& mesh) {
   std::vector<std::vector<std::uint32_t>> by_part(PartCount(mesh));
   for (std::size_t t = 0; t < mesh.triangles.size() / 3; ++t) {
     auto& out = by_part[PartOf(mesh, t)];
     out.insert(out.end(), mesh.triangles.begin() + static_cast<std::ptrdiff_t>(3 * t),
                mesh.triangles.begin() + static_cast<std::ptrdiff_t>(3 * t + 3));
   }
-  for (const auto& indices : by_part) {
-    for (const std::uint32_t v : indices) Append(&buffer.data, v);
-  }
-  model.buffers.push_back(std::move(buffer));
+  return by_part;
+}
 
+// Views 0 (positions) and 1 (every part's indices) of the one buffer, and accessor 0 (POSITION).
+void AddGltfViews(std::size_t positions_bytes, std::size_t vertices, const std::vector<double>& lo,
+                  const std::vector<double>& hi, tinygltf::Model* model) {
   tinygltf::BufferView positions_view;
   positions_view.buffer = 0;
   positions_view.byteOffset = 0;
   positions_view.byteLength = positions_bytes;
   positions_view.target = TINYGLTF_TARGET_ARRAY_BUFFER;
-  model.bufferViews.push_back(positions_view);
+  model->bufferViews.push_back(positions_view);
   tinygltf::BufferView indices_view;
   indices_view.buffer = 0;
   indices_view.byteOffset = positions_bytes;
-  indices_view.byteLength = model.buffers[0].data.size() - positions_bytes;
+  indices_view.byteLength = model->buffers[0].data.size() - positions_bytes;
   indices_view.target = TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER;
-  model.bufferViews.push_back(indices_view);
-
+  model->bufferViews.push_back(indices_view);
   tinygltf::Accessor positions;
   positions.bufferView = 0;
   positions.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
   positions.type = TINYGLTF_TYPE_VEC3;
-  positions.count = n;
-  if (n > 0) {  // min/max are required for POSITION
+  positions.count = vertices;
+  if (vertices > 0) {  // min/max are required for POSITION
     positions.minValues = lo;
     positions.maxValues = hi;
   }
-  model.accessors.push_back(positions);
+  model->accessors.push_back(positions);
+}
 
+// The material named after part p, in the viewer's colour for it.
+tinygltf::Material PartMaterial(const CompactMesh& mesh, std::size_t p) {
+  tinygltf::Material material;
+  material.name = PartName(mesh, p);
+  const auto rgb = PartColour(material.name);
+  material.pbrMetallicRoughness.baseColorFactor = {static_cast<double>(rgb[0]), static_cast<double>(rgb[1]),
+                                                   static_cast<double>(rgb[2]), 1.0};
+  material.pbrMetallicRoughness.metallicFactor = 0.0;
+  material.pbrMetallicRoughness.roughnessFactor = 0.8;
+  material.doubleSided = true;  // cut surfaces are seen from both sides
+  return material;
+}
+
+// One material per part; one primitive per part with triangles, its indices
+// an accessor into view 1.
+tinygltf::Mesh AddGltfParts(const CompactMesh& mesh, const std::vector<std::vector<std::uint32_t>>& by_part,
+                            tinygltf::Model* model) {
   tinygltf::Mesh gltf_mesh;
   gltf_mesh.name = "hapsim";
   std::size_t offset = 0;
   for (std::size_t p = 0; p < by_part.size(); ++p) {
-    tinygltf::Material material;
-    material.name = PartName(mesh, p);
-    const auto rgb = PartColour(material.name);
-    material.pbrMetallicRoughness.baseColorFactor = {static_cast<double>(rgb[0]), static_cast<double>(rgb[1]),
-                                                      static_cast<double>(rgb[2]), 1.0};
-    material.pbrMetallicRoughness.metallicFactor = 0.0;
-    material.pbrMetallicRoughness.roughnessFactor = 0.8;
-    material.doubleSided = true;  // cut surfaces are seen from both sides
-    model.materials.push_back(material);
+    model->materials.push_back(PartMaterial(mesh, p));
     if (by_part[p].empty()) continue;  // a part without triangles now (e.g. a tool out of view)
     tinygltf::Accessor indices;
     indices.bufferView = 1;
@@ -151,15 +160,36 @@ bool WriteGltf(const std::string& path, const CompactMesh& mesh, bool binary, st
     indices.type = TINYGLTF_TYPE_SCALAR;
     indices.count = by_part[p].size();
     offset += by_part[p].size() * sizeof(std::uint32_t);
-    model.accessors.push_back(indices);
+    model->accessors.push_back(indices);
     tinygltf::Primitive primitive;
     primitive.attributes["POSITION"] = 0;
-    primitive.indices = static_cast<int>(model.accessors.size() - 1);
+    primitive.indices = static_cast<int>(model->accessors.size() - 1);
     primitive.material = static_cast<int>(p);
     primitive.mode = TINYGLTF_MODE_TRIANGLES;
     gltf_mesh.primitives.push_back(primitive);
   }
-  model.meshes.push_back(gltf_mesh);
+  return gltf_mesh;
+}
+
+}  // namespace
+
+bool WriteGltf(const std::string& path, const CompactMesh& mesh, bool binary, std::string* error) {
+  if (!Check(mesh, error)) return false;
+  tinygltf::Model model;
+  model.asset.version = "2.0";
+  model.asset.generator = "hapsim";
+  // One buffer: float32 positions, then each part's uint32 indices.
+  tinygltf::Buffer buffer;
+  std::vector<double> lo, hi;
+  AppendGltfPositions(mesh, &buffer.data, &lo, &hi);
+  const std::size_t positions_bytes = buffer.data.size();
+  const auto by_part = TrianglesByPart(mesh);
+  for (const auto& indices : by_part) {
+    for (const std::uint32_t v : indices) Append(&buffer.data, v);
+  }
+  model.buffers.push_back(std::move(buffer));
+  AddGltfViews(positions_bytes, static_cast<std::size_t>(mesh.vertices_m.cols()), lo, hi, &model);
+  model.meshes.push_back(AddGltfParts(mesh, by_part, &model));
   tinygltf::Node node;
   node.mesh = 0;
   node.name = "hapsim";
@@ -168,7 +198,6 @@ bool WriteGltf(const std::string& path, const CompactMesh& mesh, bool binary, st
   scene.nodes.push_back(0);
   model.scenes.push_back(scene);
   model.defaultScene = 0;
-
   tinygltf::TinyGLTF writer;
   if (!writer.WriteGltfSceneToFile(&model, path, /*embedImages=*/true, /*embedBuffers=*/true,
                                    /*prettyPrint=*/!binary, binary)) {

@@ -23,15 +23,21 @@ std::uint64_t CellKey(const std::int64_t i[3]) {
 
 }  // namespace
 
-CoarseTriangles ClusterVertices(const std::vector<float>& positions_m, const std::vector<std::uint32_t>& triangles,
-                                const std::vector<std::uint16_t>& parts, double cell_m) {
-  CoarseTriangles out;
-  out.cell_m = cell_m;
-  const std::size_t vertices = positions_m.size() / 3;
-  std::vector<std::uint64_t> key_of(vertices, 0);
-  std::vector<std::uint8_t> used(vertices, 0);
+namespace {
+
+// Each used vertex's cell key, and per cell the vertex nearest its centre.
+struct VertexCells {
+  std::vector<std::uint64_t> key_of;  // per vertex
   std::unordered_map<std::uint64_t, Cell> cells;
-  cells.reserve(vertices);
+};
+
+VertexCells AssignCells(const std::vector<float>& positions_m, const std::vector<std::uint32_t>& triangles,
+                        double cell_m) {
+  const std::size_t vertices = positions_m.size() / 3;
+  VertexCells out;
+  out.key_of.assign(vertices, 0);
+  std::vector<std::uint8_t> used(vertices, 0);
+  out.cells.reserve(vertices);
   for (const std::uint32_t v : triangles) {
     if (v >= vertices || used[v]) continue;
     used[v] = 1;
@@ -43,10 +49,21 @@ CoarseTriangles ClusterVertices(const std::vector<float>& positions_m, const std
       const double from_centre = x - (static_cast<double>(index[k]) + 0.5);
       offset2 += from_centre * from_centre;
     }
-    key_of[v] = CellKey(index);
-    Cell& cell = cells[key_of[v]];
+    out.key_of[v] = CellKey(index);
+    Cell& cell = out.cells[out.key_of[v]];
     if (offset2 < cell.distance2) cell = {v, offset2};
   }
+  return out;
+}
+
+}  // namespace
+
+CoarseTriangles ClusterVertices(const std::vector<float>& positions_m, const std::vector<std::uint32_t>& triangles,
+                                const std::vector<std::uint16_t>& parts, double cell_m) {
+  CoarseTriangles out;
+  out.cell_m = cell_m;
+  const std::size_t vertices = positions_m.size() / 3;
+  VertexCells cells = AssignCells(positions_m, triangles, cell_m);
   const std::size_t count = std::min(triangles.size() / 3, parts.size());
   out.vertices.reserve(triangles.size());
   out.parts.reserve(count);
@@ -59,7 +76,7 @@ CoarseTriangles ClusterVertices(const std::vector<float>& positions_m, const std
         valid = false;
         break;
       }
-      r[k] = cells[key_of[v]].vertex;
+      r[k] = cells.cells[cells.key_of[v]].vertex;
     }
     if (!valid || r[0] == r[1] || r[1] == r[2] || r[0] == r[2]) continue;
     out.vertices.insert(out.vertices.end(), {r[0], r[1], r[2]});

@@ -61,30 +61,52 @@ bool GlWindow::ShouldClose() const { return glfwWindowShouldClose(window_) != 0;
 void GlWindow::FramebufferSize(int* width_px, int* height_px) const { glfwGetFramebufferSize(window_, width_px, height_px); }
 void GlWindow::Swap() { glfwSwapBuffers(window_); }
 
-std::unique_ptr<HeadlessGl> HeadlessGl::Open(int width_px, int height_px, std::string* error) {
-  KeepDriverBuffersOnTheHeap();
+namespace {
+
+// A surfaceless display (Mesa) with a current OpenGL 3.3 core context; false with *error otherwise.
+bool MakeSurfacelessContext(EGLDisplay* display, EGLContext* context, std::string* error) {
   auto get_platform_display =
       reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
   if (!get_platform_display) {
     *error = "EGL has no eglGetPlatformDisplayEXT (need Mesa's libegl-mesa0)";
-    return nullptr;
+    return false;
   }
-  EGLDisplay display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  *display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
   EGLint major = 0, minor = 0;
-  if (display == EGL_NO_DISPLAY || !eglInitialize(display, &major, &minor)) {
+  if (*display == EGL_NO_DISPLAY || !eglInitialize(*display, &major, &minor)) {
     *error = "cannot initialise a surfaceless EGL display (Mesa's libegl-mesa0 and libgl1-mesa-dri)";
-    return nullptr;
+    return false;
   }
   eglBindAPI(EGL_OPENGL_API);
   const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
                                EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  EGLContext context = eglCreateContext(display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
-  if (context == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+  *context = eglCreateContext(*display, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attributes);
+  if (*context == EGL_NO_CONTEXT || !eglMakeCurrent(*display, EGL_NO_SURFACE, EGL_NO_SURFACE, *context)) {
     *error = "cannot create an off-screen OpenGL 3.3 core context (EGL error " + std::to_string(eglGetError()) + ")";
-    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
-    eglTerminate(display);
-    return nullptr;
+    if (*context != EGL_NO_CONTEXT) eglDestroyContext(*display, *context);
+    eglTerminate(*display);
+    return false;
   }
+  return true;
+}
+
+// A renderbuffer of `format` attached to the bound framebuffer at `attachment`.
+unsigned AttachRenderbuffer(unsigned format, unsigned attachment, int width_px, int height_px) {
+  unsigned renderbuffer = 0;
+  glGenRenderbuffers(1, &renderbuffer);
+  glBindRenderbuffer(GL_RENDERBUFFER, renderbuffer);
+  glRenderbufferStorage(GL_RENDERBUFFER, format, width_px, height_px);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, renderbuffer);
+  return renderbuffer;
+}
+
+}  // namespace
+
+std::unique_ptr<HeadlessGl> HeadlessGl::Open(int width_px, int height_px, std::string* error) {
+  KeepDriverBuffersOnTheHeap();
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+  if (!MakeSurfacelessContext(&display, &context, error)) return nullptr;
   auto gl = std::unique_ptr<HeadlessGl>(new HeadlessGl());
   gl->display_ = display;
   gl->context_ = context;
@@ -92,14 +114,8 @@ std::unique_ptr<HeadlessGl> HeadlessGl::Open(int width_px, int height_px, std::s
   gl->height_ = height_px;
   glGenFramebuffers(1, &gl->framebuffer_);
   glBindFramebuffer(GL_FRAMEBUFFER, gl->framebuffer_);
-  glGenRenderbuffers(1, &gl->colour_);
-  glBindRenderbuffer(GL_RENDERBUFFER, gl->colour_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width_px, height_px);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, gl->colour_);
-  glGenRenderbuffers(1, &gl->depth_);
-  glBindRenderbuffer(GL_RENDERBUFFER, gl->depth_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width_px, height_px);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, gl->depth_);
+  gl->colour_ = AttachRenderbuffer(GL_RGBA8, GL_COLOR_ATTACHMENT0, width_px, height_px);
+  gl->depth_ = AttachRenderbuffer(GL_DEPTH_COMPONENT24, GL_DEPTH_ATTACHMENT, width_px, height_px);
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     *error = "the off-screen framebuffer is incomplete";
     return nullptr;

@@ -156,6 +156,21 @@ Eigen::Matrix3f NormalMatrix(const Eigen::Matrix4f& model) {
 }  // namespace
 
 SceneRenderer::SceneRenderer() {
+  LinkProgram();
+  CreateMeshBuffers();
+  std::vector<float> p;
+  std::vector<std::uint32_t> t;
+  Cylinder(&p, &t);
+  cylinder_ = std::make_unique<Solid>(p, t);
+  p.clear();
+  t.clear();
+  Cone(&p, &t);
+  cone_ = std::make_unique<Solid>(p, t);
+  Octahedron(&p, &t);
+  octahedron_ = std::make_unique<Solid>(p, t);
+}
+
+void SceneRenderer::LinkProgram() {
   const unsigned vs = Compile(GL_VERTEX_SHADER, kVertexShader), fs = Compile(GL_FRAGMENT_SHADER, kFragmentShader);
   program_ = glCreateProgram();
   glAttachShader(program_, vs);
@@ -172,6 +187,9 @@ SceneRenderer::SceneRenderer() {
   u_alpha_ = glGetUniformLocation(program_, "alpha");
   u_eye_ = glGetUniformLocation(program_, "eye_m");
   u_normal_matrix_ = glGetUniformLocation(program_, "normal_matrix");
+}
+
+void SceneRenderer::CreateMeshBuffers() {
   glGenVertexArrays(1, &mesh_vao_);
   glBindVertexArray(mesh_vao_);
   glGenBuffers(1, &mesh_positions_);
@@ -185,16 +203,6 @@ SceneRenderer::SceneRenderer() {
   glGenBuffers(1, &mesh_indices_);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
   glBindVertexArray(0);
-  std::vector<float> p;
-  std::vector<std::uint32_t> t;
-  Cylinder(&p, &t);
-  cylinder_ = std::make_unique<Solid>(p, t);
-  p.clear();
-  t.clear();
-  Cone(&p, &t);
-  cone_ = std::make_unique<Solid>(p, t);
-  Octahedron(&p, &t);
-  octahedron_ = std::make_unique<Solid>(p, t);
 }
 
 SceneRenderer::~SceneRenderer() {
@@ -226,46 +234,57 @@ void SceneRenderer::Upload(const SceneView& scene) {
   glBindVertexArray(mesh_vao_);
   const bool moved = scene.version != uploaded_version_, cut = scene.topology_stamp != uploaded_topology_;
   if (moved) {
+    // Straight from the buffer the stream's thread wrote (no copy on the way).
     Overwrite(GL_ARRAY_BUFFER, mesh_positions_, scene.positions_m.data(), scene.positions_m.size() * sizeof(float),
               &positions_bytes_);
     uploaded_version_ = scene.version;
   }
   if (moved || cut) {
     static const std::vector<std::uint32_t> kNone;
-    ComputeVertexNormals(scene.positions_m, scene.triangles ? scene.triangles->vertices : kNone, &normals_);
+    ComputeVertexNormals(scene.positions_m.values(), scene.triangles ? scene.triangles->vertices : kNone, &normals_);
     Overwrite(GL_ARRAY_BUFFER, mesh_normals_, normals_.data(), normals_.size() * sizeof(float), &normals_bytes_);
   }
   if (cut) {
-    // Above the budget, a coarser list over the same vertices (see
-    // display_simplifier.h); then sorted by part so each part is one draw call.
-    ranges_.clear();
-    std::vector<std::uint32_t> sorted;
-    mesh_triangles_ = drawn_triangles_ = 0;
-    if (scene.triangles) {
-      const TriangleList& list = *scene.triangles;
-      const CoarseTriangles drawn = SimplifyToBudget(scene.positions_m, list.vertices, list.parts, triangle_budget_);
-      mesh_triangles_ = list.parts.size();
-      drawn_triangles_ = drawn.parts.size();
-      const std::size_t parts = list.part_names.size();
-      std::vector<std::size_t> count(parts + 1, 0);
-      for (const auto p : drawn.parts) ++count[std::min<std::size_t>(p, parts)];
-      std::vector<std::size_t> start(parts + 2, 0);
-      for (std::size_t p = 0; p <= parts; ++p) start[p + 1] = start[p] + count[p];
-      sorted.resize(3 * start[parts + 1]);
-      std::vector<std::size_t> next(start.begin(), start.end() - 1);
-      for (std::size_t t = 0; t < drawn.parts.size(); ++t) {
-        const std::size_t at = next[std::min<std::size_t>(drawn.parts[t], parts)]++;
-        for (int k = 0; k < 3; ++k) sorted[3 * at + static_cast<std::size_t>(k)] = drawn.vertices[3 * t + static_cast<std::size_t>(k)];
-      }
-      for (std::size_t p = 0; p < parts; ++p)
-        if (count[p] > 0) ranges_.push_back({static_cast<std::uint16_t>(p), 3 * start[p], 3 * count[p]});
-    }
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)),
-                 sorted.data(), GL_STATIC_DRAW);
+    UploadTriangles(scene);
     uploaded_topology_ = scene.topology_stamp;
   }
   glBindVertexArray(0);
+}
+
+// Above the budget, a coarser list over the same vertices (see
+// display_simplifier.h); then sorted by part so each part is one draw call.
+void SceneRenderer::UploadTriangles(const SceneView& scene) {
+  ranges_.clear();
+  std::vector<std::uint32_t> sorted;
+  mesh_triangles_ = drawn_triangles_ = 0;
+  if (scene.triangles) {
+    const TriangleList& list = *scene.triangles;
+    const CoarseTriangles drawn =
+        SimplifyToBudget(scene.positions_m.values(), list.vertices, list.parts, triangle_budget_);
+    mesh_triangles_ = list.parts.size();
+    drawn_triangles_ = drawn.parts.size();
+    SortByPart(drawn, list.part_names.size(), &sorted);
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh_indices_);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)), sorted.data(),
+               GL_STATIC_DRAW);
+}
+
+// A counting sort of the triangles by part (parts past `parts` last), and
+// each part's range of indices.
+void SceneRenderer::SortByPart(const CoarseTriangles& drawn, std::size_t parts, std::vector<std::uint32_t>* sorted) {
+  std::vector<std::size_t> count(parts + 1, 0);
+  for (const auto p : drawn.parts) ++count[std::min<std::size_t>(p, parts)];
+  std::vector<std::size_t> start(parts + 2, 0);
+  for (std::size_t p = 0; p <= parts; ++p) start[p + 1] = start[p] + count[p];
+  sorted->resize(3 * start[parts + 1]);
+  std::vector<std::size_t> next(start.begin(), start.end() - 1);
+  for (std::size_t t = 0; t < drawn.parts.size(); ++t) {
+    const std::size_t at = next[std::min<std::size_t>(drawn.parts[t], parts)]++;
+    for (std::size_t k = 0; k < 3; ++k) (*sorted)[3 * at + k] = drawn.vertices[3 * t + k];
+  }
+  for (std::size_t p = 0; p < parts; ++p)
+    if (count[p] > 0) ranges_.push_back({static_cast<std::uint16_t>(p), 3 * start[p], 3 * count[p]});
 }
 
 void SceneRenderer::SetTriangleBudget(std::size_t max_triangles) {
@@ -290,6 +309,29 @@ void SceneRenderer::DrawSolid(const Solid& solid, const Eigen::Matrix4f& model, 
 
 void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int x_px, int y_px, int width_px,
                          int height_px, const RenderOptions& options) {
+  ClearViewport(x_px, y_px, width_px, height_px, options);
+  glUseProgram(program_);
+  const Eigen::Matrix4f view_projection =
+      camera.Projection(static_cast<double>(width_px) / std::max(height_px, 1)) * camera.View();
+  glUniformMatrix4fv(u_view_projection_, 1, GL_FALSE, view_projection.data());
+  const Eigen::Vector3f eye = camera.Eye_m().cast<float>();
+  glUniform3f(u_eye_, eye.x(), eye.y(), eye.z());
+  DrawParts(scene, options, false);
+  if (options.show_tool && scene.tool.valid) DrawTool(scene);
+  if (options.show_force && scene.tool.valid) DrawForceArrow(scene, options);
+  if (options.show_events) DrawEventMarkers(scene);
+  // Translucent layers last, without writing depth, so what is inside shows.
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDepthMask(GL_FALSE);
+  DrawParts(scene, options, true);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+void SceneRenderer::ClearViewport(int x_px, int y_px, int width_px, int height_px, const RenderOptions& options) {
   glViewport(x_px, y_px, width_px, height_px);
   glEnable(GL_SCISSOR_TEST);
   glScissor(x_px, y_px, width_px, height_px);
@@ -299,79 +341,67 @@ void SceneRenderer::Draw(const SceneView& scene, const OrbitCamera& camera, int 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
-  glUseProgram(program_);
-  const Eigen::Matrix4f view_projection =
-      camera.Projection(static_cast<double>(width_px) / std::max(height_px, 1)) * camera.View();
-  glUniformMatrix4fv(u_view_projection_, 1, GL_FALSE, view_projection.data());
-  const Eigen::Vector3f eye = camera.Eye_m().cast<float>();
-  glUniform3f(u_eye_, eye.x(), eye.y(), eye.z());
-  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
-  const std::vector<std::string> no_names;
-  const auto& names = scene.triangles ? scene.triangles->part_names : no_names;
-  const bool layered = scene.layer_names.size() > 1;
-  auto draw_parts = [&](bool translucent_pass) {
-    glUniformMatrix4fv(u_model_, 1, GL_FALSE, identity.data());
-    const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
-    glUniformMatrix3fv(u_normal_matrix_, 1, GL_FALSE, identity3.data());
-    glBindVertexArray(mesh_vao_);
-    for (const auto& range : ranges_) {
-      const std::string& name = range.part < names.size() ? names[range.part] : "";
-      if (!scene.tool.valid && viewer::IsToolPart(name)) continue;  // parked: no device streams
-      // Only over other layers (acupuncture's skin over fat over muscle): a
-      // single skin (the cutting patch) stays opaque.
-      const bool translucent = options.see_through_layers && layered && IsTranslucentLayer(name);
-      if (translucent != translucent_pass) continue;
-      const auto rgb = viewer::PartColour(name);
-      glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);
-      glUniform1f(u_alpha_, translucent ? LayerAlpha(name) : 1.0f);
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(range.first * sizeof(std::uint32_t)));
-    }
-  };
-  draw_parts(false);
+}
 
+// The mesh's parts of one pass: opaque, or the see-through layers.
+void SceneRenderer::DrawParts(const SceneView& scene, const RenderOptions& options, bool translucent_pass) {
+  static const Eigen::Matrix4f kIdentity4 = Eigen::Matrix4f::Identity();
+  static const Eigen::Matrix3f kIdentity3 = Eigen::Matrix3f::Identity();
+  static const std::vector<std::string> kNoNames;
+  const auto& names = scene.triangles ? scene.triangles->part_names : kNoNames;
+  const bool layered = scene.layer_names.size() > 1;
+  glUniformMatrix4fv(u_model_, 1, GL_FALSE, kIdentity4.data());
+  glUniformMatrix3fv(u_normal_matrix_, 1, GL_FALSE, kIdentity3.data());
+  glBindVertexArray(mesh_vao_);
+  for (const auto& range : ranges_) {
+    const std::string& name = range.part < names.size() ? names[range.part] : "";
+    if (!scene.tool.valid && viewer::IsToolPart(name)) continue;  // parked: no device streams
+    // Only over other layers (acupuncture's skin over fat over muscle): a
+    // single skin (the cutting patch) stays opaque.
+    const bool translucent = options.see_through_layers && layered && IsTranslucentLayer(name);
+    if (translucent != translucent_pass) continue;
+    const auto rgb = viewer::PartColour(name);
+    glUniform3f(u_colour_, rgb[0], rgb[1], rgb[2]);
+    glUniform1f(u_alpha_, translucent ? LayerAlpha(name) : 1.0f);
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(range.count), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(range.first * sizeof(std::uint32_t)));
+  }
+}
+
+// The tool's +z runs from the tip to the handle (the scenes' convention).
+void SceneRenderer::DrawTool(const SceneView& scene) {
+  const Eigen::Vector3d up = scene.tool.orientation * Eigen::Vector3d::UnitZ();
+  const double len = ToolLength_m(scene);
+  const float steel[3] = {0.80f, 0.82f, 0.88f};
+  DrawSolid(*cylinder_, Along(scene.tool.tip_m, up, len, kToolRadius_m), steel, 1.0f);
+  const float grip[3] = {0.20f, 0.45f, 0.85f};
+  DrawSolid(*cylinder_, Along(scene.tool.tip_m + 0.6 * len * up, up, 0.4 * len, 4 * kToolRadius_m), grip, 1.0f);
+}
+
+void SceneRenderer::DrawForceArrow(const SceneView& scene, const RenderOptions& options) {
+  const double f = scene.tool.force_N.norm();
+  if (f <= 1e-3) return;
   const double scale_m = std::max((scene.hi_m - scene.lo_m).norm(), 0.01);
-  if (options.show_tool && scene.tool.valid) {
-    // The tool's +z runs from the tip to the handle (the scenes' convention).
-    const Eigen::Vector3d up = scene.tool.orientation * Eigen::Vector3d::UnitZ();
-    const float steel[3] = {0.80f, 0.82f, 0.88f};
-    DrawSolid(*cylinder_, Along(scene.tool.tip_m, up, ToolLength_m(scene), kToolRadius_m), steel, 1.0f);
-    const float grip[3] = {0.20f, 0.45f, 0.85f};
-    const double len = ToolLength_m(scene);
-    DrawSolid(*cylinder_, Along(scene.tool.tip_m + 0.6 * len * up, up, 0.4 * len, 4 * kToolRadius_m), grip, 1.0f);
+  const Eigen::Vector3d dir = scene.tool.force_N / f;
+  const double length = std::min(f * options.force_arrow_m_per_N, kMaxArrow_m);
+  const double head = std::min(0.3 * length, 0.004), radius = 0.012 * scale_m;
+  const float yellow[3] = {1.0f, 0.85f, 0.10f};
+  DrawSolid(*cylinder_, Along(scene.tool.tip_m, dir, length - head, 0.4 * radius), yellow, 1.0f);
+  DrawSolid(*cone_, Along(scene.tool.tip_m + (length - head) * dir, dir, head, radius), yellow, 1.0f);
+}
+
+// The newest punctures (red) and cut ends (orange) where they happened;
+// contact begin/end would clutter the tip.
+void SceneRenderer::DrawEventMarkers(const SceneView& scene) {
+  const double scale_m = std::max((scene.hi_m - scene.lo_m).norm(), 0.01);
+  const float red[3] = {0.95f, 0.15f, 0.15f}, orange[3] = {1.0f, 0.55f, 0.1f};
+  int shown = 0;
+  for (auto e = scene.events.rbegin(); e != scene.events.rend() && shown < 24; ++e) {
+    if (!e->has_where || !viewer::MarksTissue(e->kind)) continue;
+    const Eigen::Affine3d m = Eigen::Translation3d(e->where_m) * Eigen::Scaling(0.012 * scale_m);
+    DrawSolid(*octahedron_, m.matrix().cast<float>(), e->kind == viewer::EventKind::kPuncture ? red : orange, 1.0f);
+    ++shown;
   }
-  if (options.show_force && scene.tool.valid) {
-    const double f = scene.tool.force_N.norm();
-    if (f > 1e-3) {
-      const Eigen::Vector3d dir = scene.tool.force_N / f;
-      const double length = std::min(f * options.force_arrow_m_per_N, kMaxArrow_m);
-      const double head = std::min(0.3 * length, 0.004), radius = 0.012 * scale_m;
-      const float yellow[3] = {1.0f, 0.85f, 0.10f};
-      DrawSolid(*cylinder_, Along(scene.tool.tip_m, dir, length - head, 0.4 * radius), yellow, 1.0f);
-      DrawSolid(*cone_, Along(scene.tool.tip_m + (length - head) * dir, dir, head, radius), yellow, 1.0f);
-    }
-  }
-  if (options.show_events) {
-    int shown = 0;
-    for (auto e = scene.events.rbegin(); e != scene.events.rend() && shown < 24; ++e) {
-      if (!e->has_where) continue;
-      const bool puncture = e->kind == "puncture", cut = e->kind.rfind("cut", 0) == 0;
-      if (!puncture && !cut) continue;  // contact begin/end would clutter the tip
-      const float red[3] = {0.95f, 0.15f, 0.15f}, orange[3] = {1.0f, 0.55f, 0.1f};
-      const Eigen::Affine3d m = Eigen::Translation3d(e->where_m) * Eigen::Scaling(0.012 * scale_m);
-      DrawSolid(*octahedron_, m.matrix().cast<float>(), puncture ? red : orange, 1.0f);
-      ++shown;
-    }
-  }
-  // Translucent layers last, without writing depth, so what is inside shows.
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  glDepthMask(GL_FALSE);
-  draw_parts(true);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_BLEND);
-  glBindVertexArray(0);
-  glUseProgram(0);
 }
 
 }  // namespace hapsim::gui

@@ -12,13 +12,13 @@ StreamWorker::StreamWorker(viewer::Connection connection, viewer::ViewerOptions 
   options_.max_frames = 0;  // the window decides when to stop
   options_.max_seconds = 0.0;
   options_.token = connection_.token;
-  options_.on_frame = [this, live = false](const hapsim::v1::Frame& frame, const viewer::MeshCache& cache) mutable {
-    if (!live || frame.has_keyframe()) {
+  options_.recorder = recorder_;
+  options_.on_frame = [this, live = false](const viewer::ViewerFrame& frame, const viewer::MeshCache& mesh) mutable {
+    if (!live || frame.keyframe) {
       scene_->SetConnection("live");
       live = true;
     }
-    scene_->OnFrame(frame, cache);
-    if (recorder_) recorder_->Write(frame);
+    scene_->OnFrame(frame, mesh);
   };
   thread_ = std::thread([this] { Loop(); });
 }

@@ -1,10 +1,11 @@
 #include "hapsim/gui/viewer_panels.h"
 
+#include <imgui.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <imgui.h>
+#include <vector>
 
 #include "hapsim/gui/plot_widgets.h"
 
@@ -73,15 +74,19 @@ ImVec4 ContactColour(const std::string& state) {
 
 }  // namespace
 
-void DrawSessionPanel(const SceneView& scene, const std::string& session_id, const std::string& server,
-                      const StreamRate& rate, ViewState* view, SessionControls* controls) {
+namespace {
+
+void DrawStreamStatus(const SceneView& scene, const std::string& session_id, const std::string& server,
+                      const StreamRate& rate) {
   ImGui::Text("session %s  on %s", session_id.c_str(), server.c_str());
   const bool live = scene.connection == "live";
   ImGui::TextColored(live ? ImVec4(0.5f, 0.9f, 0.5f, 1) : ImVec4(1.0f, 0.6f, 0.3f, 1), "%s", scene.connection.c_str());
   ImGui::Text("frames %llu  %.0f/s  last %.0f ms ago", static_cast<unsigned long long>(scene.frames), rate.fps,
               1e3 * rate.since_frame_s);
   ImGui::Text("sim time %.2f s%s", scene.sim_time_s, scene.paused ? "  [paused]" : "");
-  ImGui::Separator();
+}
+
+void DrawToolState(const SceneView& scene) {
   ImGui::Text("contact");
   ImGui::SameLine(90);
   ImGui::TextColored(ContactColour(scene.tool.contact_state), "%s",
@@ -96,7 +101,9 @@ void DrawSessionPanel(const SceneView& scene, const std::string& session_id, con
   ImGui::Text("|force|");
   ImGui::SameLine(90);
   ImGui::Text("%.3f N", scene.tool.force_N.norm());
-  ImGui::Separator();
+}
+
+void DrawViewControls(ViewState* view) {
   if (ImGui::Button("Reset view")) view->reset_view = true;
   ImGui::SameLine();
   ImGui::Checkbox("Follow tool", &view->follow_tool);
@@ -111,58 +118,85 @@ void DrawSessionPanel(const SceneView& scene, const std::string& session_id, con
     ImGui::SameLine();
     ImGui::TextDisabled("%zu of %zu triangles", view->drawn_triangles, view->mesh_triangles);
   }
-  if (controls && !session_id.empty()) {
-    using Control = viewer::SessionClient::Control;
-    const bool busy = controls->busy();
-    if (busy) ImGui::BeginDisabled();
-    if (ImGui::Button(scene.paused ? "Resume" : "Pause"))
-      controls->Send(scene.paused ? Control::kResume : Control::kPause, session_id);
-    ImGui::SameLine();
-    if (ImGui::Button("Reset session")) controls->Send(Control::kReset, session_id);
-    if (busy) ImGui::EndDisabled();
-    const std::string& result = controls->last_result();
-    if (!result.empty()) ImGui::TextWrapped("%s", result.c_str());
+}
+
+void DrawSessionButtons(bool paused, const std::string& session_id, SessionControls* controls) {
+  using Control = viewer::SessionClient::Control;
+  const bool busy = controls->busy();
+  if (busy) ImGui::BeginDisabled();
+  if (ImGui::Button(paused ? "Resume" : "Pause"))
+    controls->Send(paused ? Control::kResume : Control::kPause, session_id);
+  ImGui::SameLine();
+  if (ImGui::Button("Reset session")) controls->Send(Control::kReset, session_id);
+  if (busy) ImGui::EndDisabled();
+  const std::string& result = controls->last_result();
+  if (!result.empty()) ImGui::TextWrapped("%s", result.c_str());
+}
+
+// The first sample at or after t_s (the history's times never decrease: it
+// starts again when time goes back).
+std::size_t FirstSampleFrom(const ForceHistory& history, double t_s) {
+  std::size_t lo = 0, hi = history.size();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (history[mid].t_s < t_s)
+      lo = mid + 1;
+    else
+      hi = mid;
   }
+  return lo;
+}
+
+}  // namespace
+
+void DrawSessionPanel(const SceneView& scene, const std::string& session_id, const std::string& server,
+                      const StreamRate& rate, ViewState* view, SessionControls* controls) {
+  DrawStreamStatus(scene, session_id, server, rate);
+  ImGui::Separator();
+  DrawToolState(scene);
+  ImGui::Separator();
+  DrawViewControls(view);
+  if (controls && !session_id.empty()) DrawSessionButtons(scene.paused, session_id, controls);
 }
 
 double ForceAxisTop_N(double peak_N) { return 1.1 * std::max(peak_N, kMinForceAxis_N); }
 
+// Both plots read the history where it is: the one of force vs time its
+// last kWindow_s, the one of force vs depth all of it.
 void DrawForcePlots(const SceneView& scene, float width_px, float plot_height_px) {
   constexpr double kWindow_s = 10.0;
-  std::vector<double> t, f, depth_mm, f_depth;
-  const double t_end = scene.history.empty() ? 0.0 : scene.history.back().t_s;
+  const ForceHistory& h = scene.history;
+  const double t_end = h.empty() ? 0.0 : h.back().t_s;
   double f_max = 0.0, d_max = 2.0;
-  for (const auto& s : scene.history) {
-    d_max = std::max(d_max, 1e3 * s.depth_m);
-    f_max = std::max(f_max, s.force_N);
-    depth_mm.push_back(1e3 * s.depth_m);
-    f_depth.push_back(s.force_N);
-    if (s.t_s >= t_end - kWindow_s) {
-      t.push_back(s.t_s);
-      f.push_back(s.force_N);
-    }
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    d_max = std::max(d_max, 1e3 * h[i].depth_m);
+    f_max = std::max(f_max, h[i].force_N);
   }
   const double f_top = ForceAxisTop_N(f_max);
+  const std::size_t first = FirstSampleFrom(h, t_end - kWindow_s);
+  const PlotSeries force_time{h.size() - first, [&](std::size_t i) { return h[first + i].t_s; },
+                              [&](std::size_t i) { return h[first + i].force_N; }};
   PlotAxes time_axes{"force on the tool vs time", "t [s]", "|F| [N]", std::max(0.0, t_end - kWindow_s),
                      std::max(kWindow_s, t_end),  0.0,     f_top};
-  PlotLine("force_time", time_axes, t, f, width_px, plot_height_px, IM_COL32(255, 190, 50, 255));
+  PlotLine("force_time", time_axes, force_time, width_px, plot_height_px, IM_COL32(255, 190, 50, 255));
+  const PlotSeries force_depth{h.size(), [&](std::size_t i) { return 1e3 * h[i].depth_m; },
+                               [&](std::size_t i) { return h[i].force_N; }};
   PlotAxes depth_axes{
       "force vs tip depth (since reset)", "depth below the surface [mm]", "|F| [N]", 0.0, 1.05 * d_max, 0.0, f_top};
-  PlotLine("force_depth", depth_axes, depth_mm, f_depth, width_px, plot_height_px, IM_COL32(90, 200, 255, 255));
+  PlotLine("force_depth", depth_axes, force_depth, width_px, plot_height_px, IM_COL32(90, 200, 255, 255));
 }
 
 void DrawEventList(const SceneView& scene) {
   int shown = 0;
   for (auto e = scene.events.rbegin(); e != scene.events.rend() && shown < 40; ++e, ++shown) {
-    const bool strong = e->kind == "puncture" || e->kind.rfind("cut", 0) == 0;
-    const ImVec4 colour = strong ? ImVec4(1.0f, 0.5f, 0.4f, 1) : ImVec4(0.75f, 0.75f, 0.75f, 1);
-    if (e->kind == "cut_end")
-      ImGui::TextColored(colour, "%8.3f s  %s  %.1f mm", e->t_s, e->kind.c_str(), 1e3 * e->value);
+    const ImVec4 colour = viewer::MarksTissue(e->kind) ? ImVec4(1.0f, 0.5f, 0.4f, 1) : ImVec4(0.75f, 0.75f, 0.75f, 1);
+    const char* kind = viewer::ToString(e->kind);
+    if (e->kind == viewer::EventKind::kCutEnd)
+      ImGui::TextColored(colour, "%8.3f s  %s  %.1f mm", e->t_s, kind, 1e3 * e->value);
     else if (e->has_where)
-      ImGui::TextColored(colour, "%8.3f s  %s  %s  z %.2f mm", e->t_s, e->kind.c_str(), e->layer.c_str(),
-                         1e3 * e->where_m.z());
+      ImGui::TextColored(colour, "%8.3f s  %s  %s  z %.2f mm", e->t_s, kind, e->layer.c_str(), 1e3 * e->where_m.z());
     else
-      ImGui::TextColored(colour, "%8.3f s  %s  %s", e->t_s, e->kind.c_str(), e->layer.c_str());
+      ImGui::TextColored(colour, "%8.3f s  %s  %s", e->t_s, kind, e->layer.c_str());
   }
   if (shown == 0) ImGui::TextDisabled("no events yet");
 }
@@ -175,6 +209,52 @@ TileGrid ClassTileGrid(float avail_px, float spacing_px) {
   return grid;
 }
 
+namespace {
+
+// One session's tile; true when its View button was clicked.
+bool DrawSessionTile(const SessionTile& tile, bool selected, float tile_w, SessionControls* controls) {
+  constexpr float kTileHeight_px = 150.0f;
+  const auto& s = tile.status;
+  ImGui::PushID(s.session_id().c_str());
+  ImGui::PushStyleColor(ImGuiCol_ChildBg, selected ? ImVec4(0.18f, 0.26f, 0.38f, 1) : ImVec4(0.14f, 0.15f, 0.18f, 1));
+  ImGui::BeginChild("tile", ImVec2(tile_w, kTileHeight_px), true, ImGuiWindowFlags_NoScrollbar);
+  ImGui::TextColored(s.device_streaming() ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(0.9f, 0.3f, 0.3f, 1), "%s",
+                     s.device_streaming() ? "DEV" : "dev");
+  ImGui::SameLine();
+  ImGui::Text("%s  %s  %s%s", s.session_id().c_str(), s.trainee().c_str(), s.scene().c_str(),
+              s.paused() ? " [paused]" : "");
+  ImGui::TextColored(ContactColour(s.contact_state()), "%-9s", s.contact_state().c_str());
+  ImGui::SameLine();
+  ImGui::Text("%5.2f mm %s", 1e3 * s.tip_depth_m(), s.layer_name().empty() ? "-" : s.layer_name().c_str());
+  ImGui::Text("|F| %.3f N  peak %.2f N", s.force_n(), s.peak_tool_force_n());
+  std::vector<float> history(tile.force_history_N.begin(), tile.force_history_N.end());
+  float top = 0.5f;
+  for (const float f : history) top = std::max(top, f);
+  ImGui::PlotLines("##force", history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, 1.1f * top,
+                   ImVec2(tile_w - 16.0f, 34.0f));
+  ImGui::Text("late %llu  events %llu", static_cast<unsigned long long>(s.late_ticks()),
+              static_cast<unsigned long long>(tile.events));
+  if (!tile.recent_events.empty()) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", tile.recent_events.back().c_str());
+  }
+  const bool clicked = ImGui::SmallButton("View");
+  if (controls) {
+    using Control = viewer::SessionClient::Control;
+    ImGui::SameLine();
+    if (ImGui::SmallButton(s.paused() ? "Resume" : "Pause"))
+      controls->Send(s.paused() ? Control::kResume : Control::kPause, s.session_id());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Reset")) controls->Send(Control::kReset, s.session_id());
+  }
+  ImGui::EndChild();
+  ImGui::PopStyleColor();
+  ImGui::PopID();
+  return clicked;
+}
+
+}  // namespace
+
 std::string DrawClassConsole(const ClassView& view, const std::string& watched, SessionControls* controls) {
   std::string clicked;
   ImGui::Text("class %s  update %llu", view.class_name.empty() ? "(all sessions)" : view.class_name.c_str(),
@@ -182,49 +262,12 @@ std::string DrawClassConsole(const ClassView& view, const std::string& watched, 
   const bool live = view.connection == "live";
   ImGui::TextColored(live ? ImVec4(0.5f, 0.9f, 0.5f, 1) : ImVec4(1.0f, 0.6f, 0.3f, 1), "%s", view.connection.c_str());
   const TileGrid grid = ClassTileGrid(ImGui::GetContentRegionAvail().x, ImGui::GetStyle().ItemSpacing.x);
-  const float tile_w = grid.tile_width_px, tile_h = 150.0f;
-  const int columns = grid.columns;
   int i = 0;
   for (const auto& tile : view.sessions) {
-    const auto& s = tile.status;
-    if (i % columns != 0) ImGui::SameLine();
+    if (i % grid.columns != 0) ImGui::SameLine();
     ++i;
-    ImGui::PushID(s.session_id().c_str());
-    const bool selected = s.session_id() == watched;
-    ImGui::PushStyleColor(ImGuiCol_ChildBg, selected ? ImVec4(0.18f, 0.26f, 0.38f, 1) : ImVec4(0.14f, 0.15f, 0.18f, 1));
-    ImGui::BeginChild("tile", ImVec2(tile_w, tile_h), true, ImGuiWindowFlags_NoScrollbar);
-    ImGui::TextColored(s.device_streaming() ? ImVec4(0.4f, 0.9f, 0.4f, 1) : ImVec4(0.9f, 0.3f, 0.3f, 1), "%s",
-                       s.device_streaming() ? "DEV" : "dev");
-    ImGui::SameLine();
-    ImGui::Text("%s  %s  %s%s", s.session_id().c_str(), s.trainee().c_str(), s.scene().c_str(),
-                s.paused() ? " [paused]" : "");
-    ImGui::TextColored(ContactColour(s.contact_state()), "%-9s", s.contact_state().c_str());
-    ImGui::SameLine();
-    ImGui::Text("%5.2f mm %s", 1e3 * s.tip_depth_m(), s.layer_name().empty() ? "-" : s.layer_name().c_str());
-    ImGui::Text("|F| %.3f N  peak %.2f N", s.force_n(), s.peak_tool_force_n());
-    std::vector<float> history(tile.force_history_N.begin(), tile.force_history_N.end());
-    float top = 0.5f;
-    for (const float f : history) top = std::max(top, f);
-    ImGui::PlotLines("##force", history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, 1.1f * top,
-                     ImVec2(tile_w - 16.0f, 34.0f));
-    ImGui::Text("late %llu  events %llu", static_cast<unsigned long long>(s.late_ticks()),
-                static_cast<unsigned long long>(tile.events));
-    if (!tile.recent_events.empty()) {
-      ImGui::SameLine();
-      ImGui::TextDisabled("%s", tile.recent_events.back().c_str());
-    }
-    if (ImGui::SmallButton("View")) clicked = s.session_id();
-    if (controls) {
-      using Control = viewer::SessionClient::Control;
-      ImGui::SameLine();
-      if (ImGui::SmallButton(s.paused() ? "Resume" : "Pause"))
-        controls->Send(s.paused() ? Control::kResume : Control::kPause, s.session_id());
-      ImGui::SameLine();
-      if (ImGui::SmallButton("Reset")) controls->Send(Control::kReset, s.session_id());
-    }
-    ImGui::EndChild();
-    ImGui::PopStyleColor();
-    ImGui::PopID();
+    if (DrawSessionTile(tile, tile.status.session_id() == watched, grid.tile_width_px, controls))
+      clicked = tile.status.session_id();
   }
   for (const auto& m : view.missing) ImGui::TextDisabled("%s (not running)", m.c_str());
   if (controls && !controls->last_result().empty()) ImGui::TextWrapped("%s", controls->last_result().c_str());

@@ -51,6 +51,10 @@ class MeshCache {
   std::size_t live_triangle_count() const { return live_triangles_; }
   const std::vector<std::string>& part_names() const { return part_names_; }
   const std::vector<std::string>& layer_names() const { return layer_names_; }
+  // Quantised position of every vertex slot, 3 per slot (p_m = q * quantum_m;
+  // free slots hold their last value): read in place by a viewer that
+  // converts it straight into what it draws.
+  const std::vector<std::int32_t>& positions_q() const { return q_; }
   // Position of every vertex slot (q * quantum; free slots hold their last value).
   Eigen::Matrix3Xd Vertices_m() const;
   CompactMesh Compact() const;
@@ -59,7 +63,9 @@ class MeshCache {
   ApplyResult ApplyKeyframe(const hapsim::v1::Frame& frame, std::string* why);
   ApplyResult ApplyDelta(const hapsim::v1::Frame& frame, std::string* why);
   bool CheckTopology(const hapsim::v1::TopologyDelta& topology, std::string* why) const;
+  bool CheckMovedVertices(const hapsim::v1::Frame& frame, std::string* why);  // fills scratch_indices_
   void ApplyTopology(const hapsim::v1::TopologyDelta& topology);
+  void MoveVertices(const hapsim::v1::MeshDelta& delta);  // the vertices in scratch_indices_
 
   bool has_mesh_ = false;
   std::uint64_t last_seq_ = 0;

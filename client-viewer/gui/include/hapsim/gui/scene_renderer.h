@@ -4,12 +4,12 @@
 // pose; the force on the tool as an arrow; scene events as markers. Owns its
 // GL objects: create and use it with a context current.
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
-#include <Eigen/Core>
-
+#include "hapsim/gui/display_simplifier.h"
 #include "hapsim/gui/live_scene.h"
 #include "hapsim/gui/orbit_camera.h"
 
@@ -55,6 +55,15 @@ class SceneRenderer {
 
  private:
   struct Solid;  // a small static mesh (cylinder, cone, octahedron)
+  void LinkProgram();
+  void CreateMeshBuffers();
+  void UploadTriangles(const SceneView& scene);
+  void SortByPart(const CoarseTriangles& drawn, std::size_t parts, std::vector<std::uint32_t>* sorted);
+  void ClearViewport(int x_px, int y_px, int width_px, int height_px, const RenderOptions& options);
+  void DrawParts(const SceneView& scene, const RenderOptions& options, bool translucent_pass);
+  void DrawTool(const SceneView& scene);
+  void DrawForceArrow(const SceneView& scene, const RenderOptions& options);
+  void DrawEventMarkers(const SceneView& scene);
   void DrawSolid(const Solid& solid, const Eigen::Matrix4f& model, const float rgb[3], float alpha);
   static void Overwrite(unsigned target, unsigned buffer, const void* data, std::size_t bytes,
                         std::size_t* stored_bytes);

@@ -20,7 +20,7 @@ namespace hapsim::gui {
 
 class StreamWorker {
  public:
-  // `recorder` (may be null) gets every applied frame.
+  // `recorder` (may be null) gets every applied frame, as it came.
   StreamWorker(viewer::Connection connection, viewer::ViewerOptions options, LiveScene* scene,
                viewer::FrameLogWriter* recorder = nullptr);
   ~StreamWorker();  // stops and joins
