@@ -16,8 +16,7 @@
 #   hapsim::device_link  runtime, dds, wire: the DDS adapter — no gRPC
 #   hapsim::streaming runtime, proto, gRPC: frames for viewers — no DDS
 #   hapsim::classroom runtime, toml++ and OpenSSL's crypto (class config,
-#                     token hashes), the score report's protobuf message —
-#                     no gRPC calls, no DDS
+#                     token hashes) — no gRPC, no protobuf, no DDS
 #   hapsim::api       the four above, proto, gRPC, prometheus-cpp's core
 #                     (/metrics) — never the DDS wire types
 #   hapsim::app       api: the server process
@@ -26,7 +25,8 @@
 #                     tick, force safety — core types only, no DDS
 #   hapsim::bridge    servo, dds, wire: the devices' DDS side — no gRPC
 #   hapsim::load      bridge, nlohmann-json (hapsim-load's report) — no gRPC
-#   hapsim::viewer    common, proto, gRPC client, tinygltf (export) — no physics, no DDS
+#   hapsim::viewer    common, proto, gRPC client — no physics, no DDS, no export
+#   hapsim::viewer_export  viewer + tinygltf: meshes to OBJ and glTF
 #   hapsim::viewer_gui  viewer + GLFW, OpenGL/EGL, Dear ImGui, stb — rendering on
 #                     top of the mesh cache; the cache and client never include GL
 #   executables       their library; hapsim-load adds the viewer's gRPC
@@ -61,7 +61,7 @@ if(NOT HAPSIM_CORE_ONLY)
   hapsim_forbid_includes(hapsim::streaming TARGET hapsim_streaming DIRS ${PROJECT_SOURCE_DIR}/server/streaming
     PATTERN "dds/|ddsc|haptics\\.h|${_not_server_extras}|hapsim/(io|dds|wire|device_link|classroom|api|app|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::classroom TARGET hapsim_classroom DIRS ${PROJECT_SOURCE_DIR}/server/classroom
-    PATTERN "grpc|grpcpp|dds/|ddsc|haptics\\.h|asio|prometheus|hapsim/(io|dds|wire|device_link|streaming|api|app|${_device_side}|viewer)/")
+    PATTERN "grpc|grpcpp|google/protobuf|dds/|ddsc|haptics\\.h|asio|prometheus|hapsim/(io|dds|wire|device_link|streaming|api|app|${_device_side}|viewer|v1)/")
   hapsim_forbid_includes(hapsim::api TARGET hapsim_api DIRS ${PROJECT_SOURCE_DIR}/server/api
     PATTERN "haptics\\.h|toml|openssl|hapsim/(io|wire|app|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::app TARGET hapsim_app DIRS ${PROJECT_SOURCE_DIR}/server/app
@@ -77,10 +77,10 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "grpc|grpcpp|google/protobuf|haptics\\.h|hapsim/(io|wire|${_server_layers}|viewer|v1)/")
   hapsim_forbid_includes(hapsim::viewer TARGET hapsim_viewer DIRS ${PROJECT_SOURCE_DIR}/client-viewer
     PATTERN "dds/|ddsc|haptics\\.h|hapsim/(core|dds|io|${_server_layers}|servo|bridge|load)/")
-  # The mesh cache and gRPC client stay free of rendering.
-  hapsim_forbid_includes(hapsim::viewer_without_gl
+  # The mesh cache and gRPC client stay free of rendering and of file export.
+  hapsim_forbid_includes(hapsim::viewer_client_only
     DIRS ${PROJECT_SOURCE_DIR}/client-viewer/include ${PROJECT_SOURCE_DIR}/client-viewer/src
-    PATTERN "GL/|GLFW/|EGL/|imgui|stb/|hapsim/gui/")
+    PATTERN "GL/|GLFW/|EGL/|imgui|stb/|tiny_gltf|hapsim/gui/|mesh_export\\.h")
 endif()
 
 # Links (transitive).
@@ -88,7 +88,8 @@ set(_core hapsim_core Eigen3::Eigen)
 set(_common hapsim_common spdlog::spdlog)
 set(_dds hapsim_dds hapsim_dds_types CycloneDDS::ddsc ${_common})
 set(_proto hapsim_proto protobuf::libprotobuf gRPC::grpc++ gRPC::grpc)
-set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen TinyGLTF::TinyGLTF)
+set(_viewer hapsim_viewer ${_proto} ${_common} Eigen3::Eigen)
+set(_viewer_export hapsim_viewer_export ${_viewer} TinyGLTF::TinyGLTF)
 set(_wire hapsim_wire ${_core} hapsim_dds_types CycloneDDS::ddsc)
 set(_servo hapsim_servo ${_core} ${_common})
 set(_bridge hapsim_bridge ${_servo} ${_dds} ${_wire})
@@ -103,7 +104,7 @@ hapsim_layer_allows(hapsim_wire ${_wire})
 set(_runtime hapsim_runtime ${_core} ${_common})
 set(_device_link hapsim_device_link ${_runtime} ${_dds} ${_wire})
 set(_streaming hapsim_streaming ${_runtime} ${_proto})
-set(_classroom hapsim_classroom ${_runtime} ${_proto})
+set(_classroom hapsim_classroom ${_runtime})
 set(_api hapsim_api ${_device_link} ${_streaming} ${_classroom} prometheus-cpp::core)
 hapsim_layer_allows(hapsim_runtime ${_runtime})
 hapsim_layer_allows(hapsim_device_link ${_device_link})
@@ -115,13 +116,14 @@ hapsim_layer_allows(hapsim_servo ${_servo})
 hapsim_layer_allows(hapsim_bridge ${_bridge})
 hapsim_layer_allows(hapsim_load ${_load})
 hapsim_layer_allows(hapsim_viewer ${_viewer})
+hapsim_layer_allows(hapsim_viewer_export ${_viewer_export})
 hapsim_layer_allows(hapsim-server hapsim_app ${_api})
 hapsim_layer_allows(hapsim-bridge ${_bridge})
 hapsim_layer_allows(hapsim-load ${_load} ${_viewer})
 if(HAPSIM_WITH_VIEWER_GUI)
-  hapsim_layer_allows(hapsim_viewer_gui ${_viewer})
+  hapsim_layer_allows(hapsim_viewer_gui ${_viewer_export})
 endif()
-hapsim_layer_allows(hapsim-viewer ${_viewer} hapsim_viewer_gui)
-hapsim_layer_allows(hapsim-ctl ${_viewer})
+hapsim_layer_allows(hapsim-viewer ${_viewer_export} hapsim_viewer_gui)
+hapsim_layer_allows(hapsim-ctl ${_viewer_export})
 hapsim_layer_allows(hapsim-validate hapsim_io ${_core})
 hapsim_check_layers()

@@ -53,9 +53,8 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
   std::fflush(stdout);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The flags of hapsim-bridge.
+struct BridgeFlags {
   std::string session = "demo", backend = "synthetic", replay_file, trace_file;
   int device_id = 1;
   double seconds = 0.0, rate_hz = 1000.0;
@@ -63,94 +62,128 @@ int main(int argc, char** argv) {
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
   bool keep_running = false;
+};
 
+// In the order --help lists them.
+void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
+  flags.Add("session", &f->session, "session id to drive");
+  flags.Add("device-id", &f->device_id, "device id (unique per device on the DDS domain)");
+  flags.Add("backend", &f->backend, "synthetic or replay");
+  hapsim::bridge::AddScriptFlags(flags, &f->script, "synthetic random_walk: seed");
+  flags.Add("replay-file", &f->replay_file, "replay: pose log CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,...)");
+  flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
+  flags.Add("keep-running", &f->keep_running, "keep running after a finite script or replay ends");
+  flags.Add("rate-hz", &f->rate_hz, "servo loop rate [Hz]");
+  hapsim::bridge::AddSafetyFlags(flags, &f->safety);
+  flags.Add("trace", &f->trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
+  hapsim::bridge::AddProcessFlags(flags, &f->process);
+}
+
+// False (after saying which) if a flag is out of its range.
+bool BridgeFlagsInRange(const BridgeFlags& f) {
+  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
+      {f.rate_hz >= 100.0 && f.rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
+      {f.seconds >= 0.0 && f.seconds <= hapsim::common::kMaxFlagSeconds, "--seconds",
+       hapsim::common::kMaxFlagSecondsRange},
+      {f.device_id >= 0, "--device-id", ">= 0"},
+      {hapsim::common::IsValidSessionId(f.session), "--session", "[A-Za-z0-9_-]{1,63}"},
+  });
+  if (!out_of_range.empty()) {
+    std::fprintf(stderr, "hapsim-bridge: %s\n", out_of_range.c_str());
+    return false;
+  }
+  return true;
+}
+
+// Flags that are wrong together or out of range in the script or safety
+// settings: false (after saying which), so main exits 2 like any bad flag (a
+// replay file that cannot be read is a runtime error, exit 1, in RunBridge).
+// The synthetic device is made here; *device stays empty for a replay.
+bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_config,
+                     std::unique_ptr<hapsim::bridge::HapticDevice>* device) {
+  try {
+    *safety_config = f.safety.ToConfig();
+    if (f.backend == "synthetic") {
+      *device = std::make_unique<hapsim::bridge::SyntheticDevice>(f.script.ToScript());
+    } else if (f.backend == "replay") {
+      if (f.replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
+    } else {
+      throw std::invalid_argument("unknown backend '" + f.backend + "' (synthetic or replay)");
+    }
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
+    return false;
+  }
+  return true;
+}
+
+hapsim::bridge::ServoConfig MakeBridgeServoConfig(const BridgeFlags& f,
+                                                  const hapsim::bridge::SafetyConfig& safety_config) {
+  hapsim::bridge::ServoConfig servo_config;
+  servo_config.device_id = static_cast<std::uint32_t>(f.device_id);
+  servo_config.session = f.session;
+  servo_config.rate_hz = f.rate_hz;
+  servo_config.run_seconds = f.seconds;
+  servo_config.safety = safety_config;
+  servo_config.stop_when_script_finishes = !f.keep_running;
+  servo_config.trace_capacity = f.trace_file.empty() ? 0 : static_cast<std::size_t>(f.rate_hz * 600.0);
+  return servo_config;
+}
+
+// The servo loop until the script ends, --seconds pass or a signal comes;
+// the process's exit code.
+int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
+              std::unique_ptr<hapsim::bridge::HapticDevice> device) {
+  try {
+    if (!device) device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(f.replay_file));
+
+    hapsim::bridge::BridgeDds dds(f.process.Dds(), static_cast<std::uint32_t>(f.device_id), f.session);
+    spdlog::info("DDS domain {} with config: {}", f.process.dds_domain, dds.config_origin());
+    dds.Start();
+
+    hapsim::bridge::ServoLoop servo(device.get(), MakeBridgeServoConfig(f, safety_config), &dds.pose_outbox(),
+                                    &dds.model_inbox(), [&dds] { dds.Wake(); });
+
+    std::atomic<bool> stop{false};
+    hapsim::bridge::ServoReport report;
+    {
+      hapsim::bridge::StopOnSignal stop_on_signal(&stop);
+      spdlog::info("servo loop at {} Hz on device {} for session '{}'", f.rate_hz, device->Name(), f.session);
+      report = servo.Run(stop);
+      device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
+    }
+    if (dds.matched_servers() == 0) {
+      spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
+                   f.session, hapsim::dds::SessionPartition(f.session));
+    }
+    dds.Stop();
+    if (!f.trace_file.empty() && !hapsim::bridge::WriteTraceCsv(f.trace_file, report.trace)) {
+      spdlog::error("cannot write trace to {}", f.trace_file);
+    }
+    PrintReport(report, device->Name(), f.session, dds);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  BridgeFlags f;
   hapsim::common::Flags flags(
       "hapsim-bridge",
       "Device-bridge of hapsim: reads a haptic device at the servo rate, publishes its pose over DDS,\n"
       "and renders the physics server's local force model with a force clamp, a rise-rate limit and a\n"
       "staleness watchdog. Backends: synthetic (scripted motion), replay (pose log CSV).\n\n"
       "Exit: 0 done, 1 runtime error (DDS, an unreadable replay file), 2 bad flags.");
-  flags.Add("session", &session, "session id to drive");
-  flags.Add("device-id", &device_id, "device id (unique per device on the DDS domain)");
-  flags.Add("backend", &backend, "synthetic or replay");
-  hapsim::bridge::AddScriptFlags(flags, &script, "synthetic random_walk: seed");
-  flags.Add("replay-file", &replay_file, "replay: pose log CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,...)");
-  flags.Add("seconds", &seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
-  flags.Add("keep-running", &keep_running, "keep running after a finite script or replay ends");
-  flags.Add("rate-hz", &rate_hz, "servo loop rate [Hz]");
-  hapsim::bridge::AddSafetyFlags(flags, &safety);
-  flags.Add("trace", &trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
-  hapsim::bridge::AddProcessFlags(flags, &process);
-  const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-bridge", "bridge");
+  AddBridgeFlags(flags, &f);
+  const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, f.process, "hapsim-bridge", "bridge");
   if (parse_exit >= 0) return parse_exit;
-  const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
-      {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
-      {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
-      {device_id >= 0, "--device-id", ">= 0"},
-      {hapsim::common::IsValidSessionId(session), "--session", "[A-Za-z0-9_-]{1,63}"},
-  });
-  if (!out_of_range.empty()) {
-    std::fprintf(stderr, "hapsim-bridge: %s\n", out_of_range.c_str());
-    return 2;
-  }
-  // Flags that are wrong together or out of range in the script or safety
-  // settings: exit 2 like any bad flag (a replay file that cannot be read is
-  // a runtime error, exit 1, below).
+  if (!BridgeFlagsInRange(f)) return 2;
   hapsim::bridge::SafetyConfig safety_config;
   std::unique_ptr<hapsim::bridge::HapticDevice> device;
-  try {
-    safety_config = safety.ToConfig();
-    if (backend == "synthetic") {
-      device = std::make_unique<hapsim::bridge::SyntheticDevice>(script.ToScript());
-    } else if (backend == "replay") {
-      if (replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
-    } else {
-      throw std::invalid_argument("unknown backend '" + backend + "' (synthetic or replay)");
-    }
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
-    return 2;
-  }
-
-  try {
-    if (!device) device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(replay_file));
-
-    hapsim::bridge::BridgeDds dds(process.Dds(),
-                                  static_cast<std::uint32_t>(device_id), session);
-    spdlog::info("DDS domain {} with config: {}", process.dds_domain, dds.config_origin());
-    dds.Start();
-
-    hapsim::bridge::ServoConfig servo_config;
-    servo_config.device_id = static_cast<std::uint32_t>(device_id);
-    servo_config.session = session;
-    servo_config.rate_hz = rate_hz;
-    servo_config.run_seconds = seconds;
-    servo_config.safety = safety_config;
-    servo_config.stop_when_script_finishes = !keep_running;
-    servo_config.trace_capacity = trace_file.empty() ? 0 : static_cast<std::size_t>(rate_hz * 600.0);
-    hapsim::bridge::ServoLoop servo(device.get(), servo_config, &dds.pose_outbox(), &dds.model_inbox(),
-                                    [&dds] { dds.Wake(); });
-
-    std::atomic<bool> stop{false};
-    hapsim::bridge::ServoReport report;
-    {
-      hapsim::bridge::StopOnSignal stop_on_signal(&stop);
-      spdlog::info("servo loop at {} Hz on device {} for session '{}'", rate_hz, device->Name(), session);
-      report = servo.Run(stop);
-      device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
-    }
-    if (dds.matched_servers() == 0) {
-      spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
-                   session, hapsim::dds::SessionPartition(session));
-    }
-    dds.Stop();
-    if (!trace_file.empty() && !hapsim::bridge::WriteTraceCsv(trace_file, report.trace)) {
-      spdlog::error("cannot write trace to {}", trace_file);
-    }
-    PrintReport(report, device->Name(), session, dds);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  if (!ConfigureBridge(f, &safety_config, &device)) return 2;
+  return RunBridge(f, safety_config, std::move(device));
 }

@@ -77,34 +77,44 @@ Flags::Result Flags::Parse(int argc, char** argv, std::string* error, int* comma
       positionals_->push_back(arg);
       continue;
     }
-    std::string name = arg.substr(2), value;
-    bool has_value = false;
-    if (const auto eq = name.find('='); eq != std::string::npos) {
-      value = name.substr(eq + 1);
-      name = name.substr(0, eq);
-      has_value = true;
-    }
-    Flag* flag = nullptr;
-    for (auto& f : flags_) {
-      if (f.name == name) flag = &f;
-    }
-    if (!flag) {
-      *error = "unknown flag --" + name + " (see --help)";
-      return Result::kError;
-    }
-    if (!has_value && !flag->is_switch) {
-      if (i + 1 >= argc) {
-        *error = "flag --" + name + " needs a value (see --help)";
-        return Result::kError;
-      }
-      value = argv[++i];
-    }
-    if (!flag->set(value)) {
-      *error = "bad value '" + value + "' for --" + name + " (see --help)";
-      return Result::kError;
-    }
+    if (!ParseFlag(arg, argc, argv, &i, error)) return Result::kError;
   }
   return Result::kOk;
+}
+
+Flags::Flag* Flags::FindFlag(const std::string& name) {
+  Flag* flag = nullptr;
+  for (auto& f : flags_) {
+    if (f.name == name) flag = &f;  // the last one declared wins
+  }
+  return flag;
+}
+
+bool Flags::ParseFlag(const std::string& arg, int argc, char** argv, int* i, std::string* error) {
+  std::string name = arg.substr(2), value;
+  bool has_value = false;
+  if (const auto eq = name.find('='); eq != std::string::npos) {
+    value = name.substr(eq + 1);
+    name = name.substr(0, eq);
+    has_value = true;
+  }
+  Flag* flag = FindFlag(name);
+  if (!flag) {
+    *error = "unknown flag --" + name + " (see --help)";
+    return false;
+  }
+  if (!has_value && !flag->is_switch) {
+    if (*i + 1 >= argc) {
+      *error = "flag --" + name + " needs a value (see --help)";
+      return false;
+    }
+    value = argv[++*i];
+  }
+  if (!flag->set(value)) {
+    *error = "bad value '" + value + "' for --" + name + " (see --help)";
+    return false;
+  }
+  return true;
 }
 
 std::string FirstFlagOutOfRange(std::initializer_list<FlagRange> ranges) {

@@ -70,54 +70,79 @@ double SyntheticDevice::ScriptHeight(const SyntheticScript& s, double t, const c
   return -s.depth_m + v * tc;
 }
 
-DeviceReading SyntheticDevice::CutPose(const SyntheticScript& s, double t) {
-  DeviceReading r;
+namespace {
+
+// Along the cut stroke: arc length u -> point (from the entry point) and
+// heading (a straight line or an arc of total turn cut_bend_rad).
+Eigen::Vector2d CutStrokePoint(const SyntheticScript& s, double u, Eigen::Vector2d* heading) {
+  const double a0 = s.cut_angle_rad, k = s.cut_bend_rad / s.cut_length_m;
+  const double a = a0 + k * u;
+  *heading = Eigen::Vector2d(core::pmath::Cos(a), core::pmath::Sin(a));
+  if (std::abs(k) < 1e-9) return Eigen::Vector2d(u * core::pmath::Cos(a0), u * core::pmath::Sin(a0));
+  return Eigen::Vector2d((core::pmath::Sin(a) - core::pmath::Sin(a0)) / k,
+                         (core::pmath::Cos(a0) - core::pmath::Cos(a)) / k);
+}
+
+// Where the cut script is at time t: its phase, the arc length u along the
+// stroke, the height z over the entry point, and their rates.
+struct CutProgress {
+  const char* phase = nullptr;
+  double u = 0.0, z = 0.0, vz = 0.0, vu = 0.0;
+  bool finished = false;
+};
+
+CutProgress CutProgressAt(const SyntheticScript& s, double t) {
   const double v = s.speed_m_per_s;
   const double t_approach = s.start_height_m / v, t_press = s.depth_m / v, t_draw = s.cut_length_m / v;
   const double t_lift = (s.start_height_m + s.depth_m) / v;
-  // Along the stroke: arc length u -> point and heading (a straight line
-  // or an arc of total turn cut_bend_rad).
-  auto path = [&](double u, Eigen::Vector2d* heading) {
-    const double a0 = s.cut_angle_rad, k = s.cut_bend_rad / s.cut_length_m;
-    const double a = a0 + k * u;
-    *heading = Eigen::Vector2d(core::pmath::Cos(a), core::pmath::Sin(a));
-    if (std::abs(k) < 1e-9) return Eigen::Vector2d(u * core::pmath::Cos(a0), u * core::pmath::Sin(a0));
-    return Eigen::Vector2d((core::pmath::Sin(a) - core::pmath::Sin(a0)) / k,
-                           (core::pmath::Cos(a0) - core::pmath::Cos(a)) / k);
-  };
-  const Eigen::Vector2d entry = s.entry_W_m.head<2>();
-  Eigen::Vector2d heading;
-  double u = 0.0, z = s.start_height_m, vz = 0.0, vu = 0.0;
+  CutProgress p;
+  p.z = s.start_height_m;
   if (t < t_approach) {
-    r.phase = "approach";
-    z = s.start_height_m - v * t;
-    vz = -v;
+    p.phase = "approach";
+    p.z = s.start_height_m - v * t;
+    p.vz = -v;
   } else if (t < t_approach + t_press) {
-    r.phase = "press";
-    z = -v * (t - t_approach);
-    vz = -v;
+    p.phase = "press";
+    p.z = -v * (t - t_approach);
+    p.vz = -v;
   } else if (t < t_approach + t_press + t_draw) {
-    r.phase = "cut";
-    z = -s.depth_m;
-    u = v * (t - t_approach - t_press);
-    vu = v;
+    p.phase = "cut";
+    p.z = -s.depth_m;
+    p.u = v * (t - t_approach - t_press);
+    p.vu = v;
   } else if (t < t_approach + t_press + t_draw + t_lift) {
-    r.phase = "lift";
-    u = s.cut_length_m;
-    z = -s.depth_m + v * (t - t_approach - t_press - t_draw);
-    vz = v;
+    p.phase = "lift";
+    p.u = s.cut_length_m;
+    p.z = -s.depth_m + v * (t - t_approach - t_press - t_draw);
+    p.vz = v;
   } else {
-    r.phase = "done";
-    u = s.cut_length_m;
-    r.finished = true;
+    p.phase = "done";
+    p.u = s.cut_length_m;
+    p.finished = true;
   }
-  const Eigen::Vector2d at = entry + path(u, &heading);
-  r.tip_W_m = Eigen::Vector3d(at.x(), at.y(), s.entry_W_m.z() + z);
-  r.velocity_W_m_per_s = Eigen::Vector3d(vu * heading.x(), vu * heading.y(), vz);
-  // The blade's up axis (orientation * +z) leans back against the stroke.
+  return p;
+}
+
+// The blade's up axis (orientation * +z) leans back against the stroke.
+Eigen::Quaterniond CutBladeOrientation(const SyntheticScript& s, const Eigen::Vector2d& heading) {
   const Eigen::Vector3d up(-core::pmath::Sin(s.blade_tilt_rad) * heading.x(),
                            -core::pmath::Sin(s.blade_tilt_rad) * heading.y(), core::pmath::Cos(s.blade_tilt_rad));
-  r.orientation_W = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up);
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up);
+}
+
+}  // namespace
+
+DeviceReading SyntheticDevice::CutPose(const SyntheticScript& s, double t) {
+  DeviceReading r;
+  const CutProgress p = CutProgressAt(s, t);
+  r.phase = p.phase;
+  r.finished = p.finished;
+  const Eigen::Vector2d entry = s.entry_W_m.head<2>();
+  Eigen::Vector2d heading;
+  const Eigen::Vector2d at = entry + CutStrokePoint(s, p.u, &heading);
+  r.tip_W_m = Eigen::Vector3d(at.x(), at.y(), s.entry_W_m.z() + p.z);
+  r.velocity_W_m_per_s = Eigen::Vector3d(p.vu * heading.x(), p.vu * heading.y(), p.vz);
+  r.orientation_W = CutBladeOrientation(s, heading);
   return r;
 }
 

@@ -52,9 +52,8 @@ struct CloseSessionsAtExit {
   }
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
+// The flags of hapsim-load.
+struct LoadFlags {
   hapsim::bridge::LoadPlanOptions plan_options;
   std::string sessions, create_scene, params, json_file, csv_file, intervals_csv_file;
   hapsim::viewer::Connection connection;
@@ -65,130 +64,174 @@ int main(int argc, char** argv) {
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
+};
 
-  hapsim::common::Flags flags("hapsim-load", kSummary);
-  flags.Add("devices", &devices, "number of synthetic devices (one session each)");
-  flags.Add("session-prefix", &plan_options.session_prefix, "device i drives session <prefix><i>");
-  flags.Add("sessions", &sessions, "explicit session ids a,b,c (one device each; overrides --devices/--session-prefix)");
-  flags.Add("first-device-id", &first_device_id, "device id of device 0 (device i: this + i)");
-  hapsim::bridge::AddScriptFlags(flags, &script, "base seed of the random_walk script (device i: seed + i)");
-  flags.Add("phase-spread-s", &plan_options.phase_spread_s,
+// In the order --help lists them.
+void AddLoadFlags(hapsim::common::Flags& flags, LoadFlags* f) {
+  flags.Add("devices", &f->devices, "number of synthetic devices (one session each)");
+  flags.Add("session-prefix", &f->plan_options.session_prefix, "device i drives session <prefix><i>");
+  flags.Add("sessions", &f->sessions,
+            "explicit session ids a,b,c (one device each; overrides --devices/--session-prefix)");
+  flags.Add("first-device-id", &f->first_device_id, "device id of device 0 (device i: this + i)");
+  hapsim::bridge::AddScriptFlags(flags, &f->script, "base seed of the random_walk script (device i: seed + i)");
+  flags.Add("phase-spread-s", &f->plan_options.phase_spread_s,
             "device i reads its script at t + i * spread / N [s] (0: all in lockstep)");
-  flags.Add("seconds", &seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
-  flags.Add("rate-hz", &rate_hz, "servo rate of every device [Hz]");
-  hapsim::bridge::AddSafetyFlags(flags, &safety);
-  flags.Add("create", &create_scene, "create the sessions with this scene before starting (see hapsim-ctl scenes)");
-  flags.Add("params", &params, "with --create: scene parameters k=v,k=v (SI, as hapsim-ctl create --param)");
-  flags.Add("keep-sessions", &keep_sessions, "with --create: leave the sessions open at exit");
-  flags.Add("server-stats", &server_stats, "read the server's session counters after the run even without --create");
-  flags.Add("server", &connection.address, "gRPC address of the hapsim-server (for --create and --server-stats)");
-  hapsim::viewer::AddConnectionFlags(&flags, &connection, &connection_flags);
-  flags.Add("json", &json_file, "write the summary as JSON here");
-  flags.Add("csv", &csv_file, "write the per-device summary as CSV here (last row: total)");
-  flags.Add("interval-s", &interval_s,
-            "also report round trip and model age per interval of this length [s] (0: off; in --json and --intervals-csv)");
-  flags.Add("intervals-csv", &intervals_csv_file, "with --interval-s: write one CSV row per interval here");
-  hapsim::bridge::AddProcessFlags(flags, &process);
-  const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, process, "hapsim-load", "load");
-  if (parse_exit >= 0) return parse_exit;
+  flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
+  flags.Add("rate-hz", &f->rate_hz, "servo rate of every device [Hz]");
+  hapsim::bridge::AddSafetyFlags(flags, &f->safety);
+  flags.Add("create", &f->create_scene, "create the sessions with this scene before starting (see hapsim-ctl scenes)");
+  flags.Add("params", &f->params, "with --create: scene parameters k=v,k=v (SI, as hapsim-ctl create --param)");
+  flags.Add("keep-sessions", &f->keep_sessions, "with --create: leave the sessions open at exit");
+  flags.Add("server-stats", &f->server_stats, "read the server's session counters after the run even without --create");
+  flags.Add("server", &f->connection.address, "gRPC address of the hapsim-server (for --create and --server-stats)");
+  hapsim::viewer::AddConnectionFlags(&flags, &f->connection, &f->connection_flags);
+  flags.Add("json", &f->json_file, "write the summary as JSON here");
+  flags.Add("csv", &f->csv_file, "write the per-device summary as CSV here (last row: total)");
+  flags.Add("interval-s", &f->interval_s,
+            "also report round trip and model age per interval of this length [s] (0: off; in --json and "
+            "--intervals-csv)");
+  flags.Add("intervals-csv", &f->intervals_csv_file, "with --interval-s: write one CSV row per interval here");
+  hapsim::bridge::AddProcessFlags(flags, &f->process);
+}
+
+// False (after saying which) if a flag is out of range or wrong with another;
+// finishes the connection flags into f->connection.
+bool CheckLoadFlags(LoadFlags* f) {
   const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
-      {rate_hz >= 100.0 && rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
-      {seconds >= 0.0 && seconds <= hapsim::common::kMaxFlagSeconds, "--seconds", hapsim::common::kMaxFlagSecondsRange},
-      {first_device_id >= 0, "--first-device-id", ">= 0"},
-      {interval_s == 0.0 || (interval_s >= 0.1 && interval_s <= hapsim::common::kMaxFlagSeconds), "--interval-s",
-       "0 (off) or [0.1, 1e7]"},
+      {f->rate_hz >= 100.0 && f->rate_hz <= 10000.0, "--rate-hz", "[100, 10000]"},
+      {f->seconds >= 0.0 && f->seconds <= hapsim::common::kMaxFlagSeconds, "--seconds",
+       hapsim::common::kMaxFlagSecondsRange},
+      {f->first_device_id >= 0, "--first-device-id", ">= 0"},
+      {f->interval_s == 0.0 || (f->interval_s >= 0.1 && f->interval_s <= hapsim::common::kMaxFlagSeconds),
+       "--interval-s", "0 (off) or [0.1, 1e7]"},
   });
   if (!out_of_range.empty()) {
     std::fprintf(stderr, "hapsim-load: %s\n", out_of_range.c_str());
-    return 2;
+    return false;
   }
-  if (!intervals_csv_file.empty() && interval_s == 0.0) {
+  if (!f->intervals_csv_file.empty() && f->interval_s == 0.0) {
     std::fprintf(stderr, "hapsim-load: --intervals-csv needs --interval-s (the length of an interval)\n");
-    return 2;
+    return false;
   }
-  if (std::string error; !hapsim::viewer::FinishConnectionFlags(connection_flags, &connection, &error)) {
+  if (std::string error; !hapsim::viewer::FinishConnectionFlags(f->connection_flags, &f->connection, &error)) {
     std::fprintf(stderr, "hapsim-load: %s\n", error.c_str());
-    return 2;
+    return false;
   }
-  if (const std::string bad = hapsim::bridge::CheckSceneParams(params); !bad.empty()) {
+  if (const std::string bad = hapsim::bridge::CheckSceneParams(f->params); !bad.empty()) {
     std::fprintf(stderr, "hapsim-load: %s\n", bad.c_str());
-    return 2;
+    return false;
   }
+  return true;
+}
 
-  std::vector<hapsim::bridge::LoadDevicePlan> plan;
-  hapsim::bridge::LoadRunConfig run_config;
+// The devices and the run; false (after saying why) if the script or the
+// safety settings are wrong.
+bool PlanLoad(LoadFlags* f, std::vector<hapsim::bridge::LoadDevicePlan>* plan,
+              hapsim::bridge::LoadRunConfig* run_config) {
   try {
-    plan_options.devices = devices;
-    plan_options.sessions = hapsim::bridge::SplitCommaList(sessions);
-    plan_options.first_device_id = static_cast<std::uint32_t>(first_device_id);
-    plan_options.script = script.ToScript();
-    hapsim::bridge::ValidateSyntheticScript(plan_options.script);
-    plan = hapsim::bridge::PlanDevices(plan_options);
-    run_config.safety = safety.ToConfig();
+    f->plan_options.devices = f->devices;
+    f->plan_options.sessions = hapsim::bridge::SplitCommaList(f->sessions);
+    f->plan_options.first_device_id = static_cast<std::uint32_t>(f->first_device_id);
+    f->plan_options.script = f->script.ToScript();
+    hapsim::bridge::ValidateSyntheticScript(f->plan_options.script);
+    *plan = hapsim::bridge::PlanDevices(f->plan_options);
+    run_config->safety = f->safety.ToConfig();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-load: %s\n", e.what());
-    return 2;
+    return false;
   }
-  run_config.rate_hz = rate_hz;
-  run_config.run_seconds = seconds;
-  run_config.interval_s = interval_s;
+  run_config->rate_hz = f->rate_hz;
+  run_config->run_seconds = f->seconds;
+  run_config->interval_s = f->interval_s;
+  return true;
+}
 
+// --create: false (after saying why) if a session could not be created.
+bool CreateLoadSessions(const LoadFlags& f, hapsim::viewer::SessionClient& client,
+                        const std::vector<hapsim::bridge::LoadDevicePlan>& plan, CloseSessionsAtExit* close_at_exit) {
+  std::vector<std::string> created;
+  const std::string create_error = hapsim::bridge::CreateSessions(client, plan, {f.create_scene, f.params}, &created);
+  if (!create_error.empty()) {
+    std::fprintf(stderr, "hapsim-load: cannot create sessions at %s: %s\n", f.connection.address.c_str(),
+                 create_error.c_str());
+    return false;
+  }
+  spdlog::info("created {} sessions of {} at {}", created.size(), f.create_scene, f.connection.address);
+  if (!f.keep_sessions) {
+    close_at_exit->client = &client;
+    close_at_exit->ids = created;
+  }
+  return true;
+}
+
+hapsim::bridge::LoadReport RunDevicesUntilStopped(const LoadFlags& f, hapsim::bridge::LoadRunner& runner,
+                                                  const std::vector<hapsim::bridge::LoadDevicePlan>& plan) {
+  std::atomic<bool> stop{false};
+  hapsim::bridge::StopOnSignal stop_on_signal(&stop);
+  spdlog::info("{} devices (ids {}..{}), script {}, at {} Hz", plan.size(), plan.front().device_id,
+               plan.back().device_id, f.script.kind, f.rate_hz);
+  return runner.Run(stop);
+}
+
+// --json, --csv, --intervals-csv; 1 if one could not be written, else 0.
+int WriteLoadSummaries(const LoadFlags& f, const hapsim::bridge::LoadReport& report) {
+  int rc = 0;
+  if (!f.json_file.empty() && !hapsim::bridge::WriteTextFile(f.json_file, hapsim::bridge::FormatLoadJson(report))) {
+    std::fprintf(stderr, "hapsim-load: cannot write %s\n", f.json_file.c_str());
+    rc = 1;
+  }
+  if (!f.csv_file.empty() && !hapsim::bridge::WriteTextFile(f.csv_file, hapsim::bridge::FormatLoadCsv(report))) {
+    std::fprintf(stderr, "hapsim-load: cannot write %s\n", f.csv_file.c_str());
+    rc = 1;
+  }
+  if (!f.intervals_csv_file.empty() &&
+      !hapsim::bridge::WriteTextFile(f.intervals_csv_file, hapsim::bridge::FormatLoadIntervalsCsv(report))) {
+    std::fprintf(stderr, "hapsim-load: cannot write %s\n", f.intervals_csv_file.c_str());
+    rc = 1;
+  }
+  return rc;
+}
+
+// The run, the table on stdout and the summaries; the process's exit code.
+int RunLoad(const LoadFlags& f, const std::vector<hapsim::bridge::LoadDevicePlan>& plan,
+            const hapsim::bridge::LoadRunConfig& run_config) {
   std::vector<std::string> session_ids;
   for (const auto& d : plan) session_ids.push_back(d.session);
   try {
-    hapsim::viewer::SessionClient client(connection);  // throws on unreadable TLS files
-    CloseSessionsAtExit close_at_exit;                 // declared after the client: runs first
+    hapsim::viewer::SessionClient client(f.connection);  // throws on unreadable TLS files
+    CloseSessionsAtExit close_at_exit;                   // declared after the client: runs first
     hapsim::bridge::ModelRouter router(plan.front().device_id, session_ids);
-    hapsim::bridge::DeviceDds dds(process.Dds(), &router);
+    hapsim::bridge::DeviceDds dds(f.process.Dds(), &router);
     hapsim::bridge::LoadRunner runner(plan, run_config, &router,
                                       [&dds](const hapsim::bridge::SensedPose& pose) { return dds.WritePose(pose); });
-    spdlog::info("DDS domain {} with config: {}", process.dds_domain, dds.config_origin());
-
-    if (!create_scene.empty()) {
-      std::vector<std::string> created;
-      const std::string create_error = hapsim::bridge::CreateSessions(client, plan, {create_scene, params}, &created);
-      if (!create_error.empty()) {
-        std::fprintf(stderr, "hapsim-load: cannot create sessions at %s: %s\n", connection.address.c_str(), create_error.c_str());
-        return 1;
-      }
-      spdlog::info("created {} sessions of {} at {}", created.size(), create_scene, connection.address);
-      if (!keep_sessions) {
-        close_at_exit.client = &client;
-        close_at_exit.ids = created;
-      }
-    }
+    spdlog::info("DDS domain {} with config: {}", f.process.dds_domain, dds.config_origin());
+    if (!f.create_scene.empty() && !CreateLoadSessions(f, client, plan, &close_at_exit)) return 1;
 
     dds.Start();
-    std::atomic<bool> stop{false};
-    hapsim::bridge::LoadReport report;
-    {
-      hapsim::bridge::StopOnSignal stop_on_signal(&stop);
-      spdlog::info("{} devices (ids {}..{}), script {}, at {} Hz", plan.size(), plan.front().device_id,
-                   plan.back().device_id, script.kind, rate_hz);
-      report = runner.Run(stop);
-    }
+    hapsim::bridge::LoadReport report = RunDevicesUntilStopped(f, runner, plan);
     dds.Stop();
-    if (!create_scene.empty() || server_stats) report.server = hapsim::bridge::FetchServerStats(client, plan);
+    if (!f.create_scene.empty() || f.server_stats) report.server = hapsim::bridge::FetchServerStats(client, plan);
 
     std::fputs(hapsim::bridge::FormatLoadTable(report).c_str(), stdout);
     std::fflush(stdout);
-    int rc = 0;
-    if (!json_file.empty() && !hapsim::bridge::WriteTextFile(json_file, hapsim::bridge::FormatLoadJson(report))) {
-      std::fprintf(stderr, "hapsim-load: cannot write %s\n", json_file.c_str());
-      rc = 1;
-    }
-    if (!csv_file.empty() && !hapsim::bridge::WriteTextFile(csv_file, hapsim::bridge::FormatLoadCsv(report))) {
-      std::fprintf(stderr, "hapsim-load: cannot write %s\n", csv_file.c_str());
-      rc = 1;
-    }
-    if (!intervals_csv_file.empty() &&
-        !hapsim::bridge::WriteTextFile(intervals_csv_file, hapsim::bridge::FormatLoadIntervalsCsv(report))) {
-      std::fprintf(stderr, "hapsim-load: cannot write %s\n", intervals_csv_file.c_str());
-      rc = 1;
-    }
-    return rc;
+    return WriteLoadSummaries(f, report);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-load: %s\n", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  LoadFlags f;
+  hapsim::common::Flags flags("hapsim-load", kSummary);
+  AddLoadFlags(flags, &f);
+  const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, f.process, "hapsim-load", "load");
+  if (parse_exit >= 0) return parse_exit;
+  if (!CheckLoadFlags(&f)) return 2;
+  std::vector<hapsim::bridge::LoadDevicePlan> plan;
+  hapsim::bridge::LoadRunConfig run_config;
+  if (!PlanLoad(&f, &plan, &run_config)) return 2;
+  return RunLoad(f, plan, run_config);
 }

@@ -73,45 +73,47 @@ void PrintHelp(const hapsim::common::Flags& flags) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  hapsim::service::ServerOptions options;
+// Flags that ServerOptions holds in other units, or that only main uses.
+struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
   int dds_domain = 0, max_sessions = 64;
-  hapsim::common::Flags flags(
-      "hapsim-server",
-      "Physics server of hapsim: runs tissue-simulation sessions at a fixed tick rate, takes stylus\n"
-      "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
-      "over gRPC (SessionService, ViewerService, health checking).");
-  flags.Add("listen", &options.listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
-  flags.Add("port-file", &port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
-  flags.Add("metrics-listen", &options.metrics_listen_address,
+};
+
+// In the order --help lists them.
+void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions* options, ServerFlags* f) {
+  flags.Add("listen", &options->listen_address, "gRPC listen address (host:port; port 0 picks a free one)");
+  flags.Add("port-file", &f->port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
+  flags.Add("metrics-listen", &options->metrics_listen_address,
             "serve Prometheus metrics at http://HOST:PORT/metrics (docs/metrics.md; empty: off)");
-  flags.Add("sessions", &sessions, "sessions to create at start: id[:scene],id[:scene],...");
-  flags.Add("class-config", &class_config,
+  flags.Add("sessions", &f->sessions, "sessions to create at start: id[:scene],id[:scene],...");
+  flags.Add("class-config", &f->class_config,
             "TOML file of classes, their sessions (created at start) and tokens with roles (docs/classroom.md);\n"
             "every call then needs a token. Empty: development mode, no tokens (keep --listen on loopback)");
-  flags.Add("tls-cert", &options.tls_cert_file, "serve gRPC over TLS with this PEM certificate (chain)");
-  flags.Add("tls-key", &options.tls_key_file, "the PEM private key of --tls-cert");
-  flags.Add("tls-client-ca", &options.tls_client_ca_file,
+  flags.Add("tls-cert", &options->tls_cert_file, "serve gRPC over TLS with this PEM certificate (chain)");
+  flags.Add("tls-key", &options->tls_key_file, "the PEM private key of --tls-cert");
+  flags.Add("tls-client-ca", &options->tls_client_ca_file,
             "require client certificates signed by this PEM CA (with --tls-cert/--tls-key)");
-  flags.Add("tick-hz", &tick_hz, "physics tick rate of every session [Hz]");
-  flags.Add("frame-rate-hz", &options.sessions.frame_rate_hz, "viewer frame rate [Hz]");
-  flags.Add("max-sessions", &max_sessions, "refuse to create more sessions than this");
-  flags.Add("quantum-mm", &quantum_mm, "position quantisation of viewer deltas [mm]");
-  flags.Add("pose-timeout-ms", &pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
-  flags.Add("pose-slack-ms", &pose_slack_ms,
+  flags.Add("tick-hz", &f->tick_hz, "physics tick rate of every session [Hz]");
+  flags.Add("frame-rate-hz", &options->sessions.frame_rate_hz, "viewer frame rate [Hz]");
+  flags.Add("max-sessions", &f->max_sessions, "refuse to create more sessions than this");
+  flags.Add("quantum-mm", &f->quantum_mm, "position quantisation of viewer deltas [mm]");
+  flags.Add("pose-timeout-ms", &f->pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
+  flags.Add("pose-slack-ms", &f->pose_slack_ms,
             "a device's pose clocks its session; a pose later than one period plus this: tick without it [ms]");
-  flags.Add("workers", &options.workers, "tick worker threads (0: one per CPU this process may run on)");
-  flags.Add("max-message-bytes", &options.max_message_bytes, "largest gRPC request accepted [bytes]");
-  flags.Add("dds-domain", &dds_domain, "DDS domain id");
-  flags.Add("dds-config", &dds_config,
+  flags.Add("workers", &options->workers, "tick worker threads (0: one per CPU this process may run on)");
+  flags.Add("max-message-bytes", &options->max_message_bytes, "largest gRPC request accepted [bytes]");
+  flags.Add("dds-domain", &f->dds_domain, "DDS domain id");
+  flags.Add("dds-config", &f->dds_config,
             "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else the built-in loopback config)");
-  flags.Add("log-level", &log_level, "trace, debug, info, warn, error or off");
-  std::string error;
-  switch (flags.Parse(argc, argv, &error)) {
+  flags.Add("log-level", &f->log_level, "trace, debug, info, warn, error or off");
+}
+
+// The exit code if the command line ends the run (--help, --version, a bad
+// flag), else -1.
+int ParseResultExitCode(const hapsim::common::Flags& flags, hapsim::common::Flags::Result result,
+                        const std::string& error) {
+  switch (result) {
     case hapsim::common::Flags::Result::kHelp: PrintHelp(flags); return 0;
     case hapsim::common::Flags::Result::kVersion:
       std::fputs(flags.Version().c_str(), stdout);
@@ -119,63 +121,81 @@ int main(int argc, char** argv) {
     case hapsim::common::Flags::Result::kError: std::fprintf(stderr, "hapsim-server: %s\n", error.c_str()); return 2;
     case hapsim::common::Flags::Result::kOk: break;
   }
-  if (!(tick_hz >= 10.0 && tick_hz <= 10000.0)) {
+  return -1;
+}
+
+// False (after saying which) if a flag is out of its range.
+bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptions& options) {
+  if (!(f.tick_hz >= 10.0 && f.tick_hz <= 10000.0)) {
     std::fprintf(stderr, "hapsim-server: --tick-hz must be within [10, 10000]\n");
-    return 2;
+    return false;
   }
   // Each flag's range, named in the message (a bad value must not surface
   // later as a client's error).
   const std::string out_of_range = hapsim::common::FirstFlagOutOfRange({
-      {quantum_mm > 0.0 && quantum_mm <= 1.0, "--quantum-mm", "(0, 1]"},
-      {max_sessions >= 1, "--max-sessions", ">= 1"},
-      {dds_domain >= 0 && dds_domain <= 232, "--dds-domain", "[0, 232]"},
-      {pose_timeout_ms > 0.0 && pose_timeout_ms <= 60000.0, "--pose-timeout-ms", "(0, 60000]"},
-      {pose_slack_ms >= 0.0 && pose_slack_ms <= pose_timeout_ms, "--pose-slack-ms", "[0, --pose-timeout-ms]"},
+      {f.quantum_mm > 0.0 && f.quantum_mm <= 1.0, "--quantum-mm", "(0, 1]"},
+      {f.max_sessions >= 1, "--max-sessions", ">= 1"},
+      {f.dds_domain >= 0 && f.dds_domain <= 232, "--dds-domain", "[0, 232]"},
+      {f.pose_timeout_ms > 0.0 && f.pose_timeout_ms <= 60000.0, "--pose-timeout-ms", "(0, 60000]"},
+      {f.pose_slack_ms >= 0.0 && f.pose_slack_ms <= f.pose_timeout_ms, "--pose-slack-ms", "[0, --pose-timeout-ms]"},
       {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
       {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
-      {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz", "(0, 1000]"},
+      {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz",
+       "(0, 1000]"},
   });
   if (!out_of_range.empty()) {
     std::fprintf(stderr, "hapsim-server: %s\n", out_of_range.c_str());
-    return 2;
+    return false;
   }
-  if (!hapsim::common::SetUpLogging("server", log_level)) {
-    std::fprintf(stderr, "hapsim-server: unknown --log-level '%s'\n", log_level.c_str());
-    return 2;
-  }
-  options.sessions.tick_period_s = 1.0 / tick_hz;
-  options.sessions.max_sessions = static_cast<std::size_t>(max_sessions);
-  options.sessions.pose_timeout_s = pose_timeout_ms * 1e-3;
-  options.sessions.pose_slack_s = pose_slack_ms * 1e-3;
-  options.quantum_m = quantum_mm * 1e-3;
-  options.dds.domain_id = static_cast<std::uint32_t>(dds_domain);
-  options.dds.config_file = dds_config;
-  if (!class_config.empty()) {
+  return true;
+}
+
+// The flags into options, in SI units; false (after saying why) if the
+// class config cannot be used.
+bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* options) {
+  options->sessions.tick_period_s = 1.0 / f.tick_hz;
+  options->sessions.max_sessions = static_cast<std::size_t>(f.max_sessions);
+  options->sessions.pose_timeout_s = f.pose_timeout_ms * 1e-3;
+  options->sessions.pose_slack_s = f.pose_slack_ms * 1e-3;
+  options->quantum_m = f.quantum_mm * 1e-3;
+  options->dds.domain_id = static_cast<std::uint32_t>(f.dds_domain);
+  options->dds.config_file = f.dds_config;
+  if (!f.class_config.empty()) {
     try {
-      options.classes = hapsim::service::LoadClassConfig(class_config);
+      options->classes = hapsim::service::LoadClassConfig(f.class_config);
     } catch (const hapsim::service::ClassConfigError& e) {
       std::fprintf(stderr, "hapsim-server: bad --class-config: %s\n", e.what());
-      return 2;
+      return false;
     }
   }
+  return true;
+}
 
+bool WritePortFile(const std::string& port_file, int port) {
+  std::FILE* f = std::fopen(port_file.c_str(), "w");
+  if (!f || std::fprintf(f, "%d\n", port) < 0 || std::fclose(f) != 0) {
+    std::fprintf(stderr, "hapsim-server: cannot write --port-file %s\n", port_file.c_str());
+    return false;
+  }
+  return true;
+}
+
+void WaitForStopSignal() {
+  asio::io_context io;
+  asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait(
+      [&](const std::error_code&, int signal) { spdlog::info("signal {} received: shutting down", signal); });
+  io.run();  // returns once the signal handler has run
+}
+
+// Serves until SIGINT/SIGTERM; the process's exit code.
+int RunServer(const hapsim::service::ServerOptions& options, const ServerFlags& f) {
   try {
     hapsim::service::ServerApp app(options);
-    if (!CreateStartupSessions(app.registry(), sessions)) return 2;
-    if (!port_file.empty()) {
-      // Written after the sessions exist, so a script that sees the file can use them.
-      std::FILE* f = std::fopen(port_file.c_str(), "w");
-      if (!f || std::fprintf(f, "%d\n", app.bound_port()) < 0 || std::fclose(f) != 0) {
-        std::fprintf(stderr, "hapsim-server: cannot write --port-file %s\n", port_file.c_str());
-        return 1;
-      }
-    }
-    asio::io_context io;
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const std::error_code&, int signal) {
-      spdlog::info("signal {} received: shutting down", signal);
-    });
-    io.run();  // returns once the signal handler has run
+    if (!CreateStartupSessions(app.registry(), f.sessions)) return 2;
+    // Written after the sessions exist, so a script that sees the file can use them.
+    if (!f.port_file.empty() && !WritePortFile(f.port_file, app.bound_port())) return 1;
+    WaitForStopSignal();
     PrintSummary(app);
     app.Shutdown();
   } catch (const std::exception& e) {
@@ -183,4 +203,27 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  hapsim::service::ServerOptions options;
+  ServerFlags f;
+  hapsim::common::Flags flags(
+      "hapsim-server",
+      "Physics server of hapsim: runs tissue-simulation sessions at a fixed tick rate, takes stylus\n"
+      "poses over DDS, answers each with a local force model, and streams mesh frames to viewers\n"
+      "over gRPC (SessionService, ViewerService, health checking).");
+  AddServerFlags(flags, &options, &f);
+  std::string error;
+  const auto parsed = flags.Parse(argc, argv, &error);
+  if (const int exit_code = ParseResultExitCode(flags, parsed, error); exit_code >= 0) return exit_code;
+  if (!ServerFlagsInRange(f, options)) return 2;
+  if (!hapsim::common::SetUpLogging("server", f.log_level)) {
+    std::fprintf(stderr, "hapsim-server: unknown --log-level '%s'\n", f.log_level.c_str());
+    return 2;
+  }
+  if (!ApplyServerFlags(f, &options)) return 2;
+  return RunServer(options, f);
 }

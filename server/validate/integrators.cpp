@@ -79,36 +79,25 @@ std::vector<double> SolveOdeBackwardEuler() {
   return y;
 }
 
-void RunOde(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, bool& ok) {
-  const double nan = std::nan("");
-  const OdeMethod methods[] = {
-      {"explicit_euler", core::FirstOrderMethod::kExplicitEuler, nan},
-      {"improved_euler", core::FirstOrderMethod::kImprovedEuler, nan},
-      {"heun", core::FirstOrderMethod::kHeun, nan},
-      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.5},
-      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.375},
-      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.625},
-      {"rk4", core::FirstOrderMethod::kRk4, nan},
-  };
-  md << "## Problem `ode`: y' = -y + 2x + 3, y(0) = 0, h = 0.05, exact y = 2x + 1 - e^-x\n\n"
-     << "| method | alpha | y(1) | exact y(1) | abs error at x = 1 | max abs error on [0, 1] |\n"
-     << "|---|---|---|---|---|---|\n";
-  std::map<std::string, std::vector<double>> solutions;
-  auto emit = [&](const std::string& name, double alpha, const std::vector<double>& y) {
-    double max_error = 0.0;
-    for (std::size_t k = 0; k < y.size(); ++k) {
-      const double x = static_cast<double>(k) * LinearOde::kH;
-      WriteRow(csv, {"ode", name, alpha, LinearOde::kH, x, y[k], LinearOde::Exact(x)});
-      max_error = std::max(max_error, std::abs(y[k] - LinearOde::Exact(x)));
-    }
-    md << "| " << name << " | " << (std::isnan(alpha) ? "" : Fixed(alpha, 3)) << " | " << Fixed(y.back(), 8)
-       << " | " << Fixed(LinearOde::Exact(1.0), 8) << " | " << Sci(std::abs(y.back() - LinearOde::Exact(1.0)))
-       << " | " << Sci(max_error) << " |\n";
-    solutions[name + (std::isnan(alpha) ? "" : Fixed(alpha, 3))] = y;
-  };
-  for (const OdeMethod& m : methods) emit(m.name, m.alpha, SolveOde(m));
-  emit("backward_euler", nan, SolveOdeBackwardEuler());
+// One method's solution: its CSV rows, its markdown row, kept in solutions
+// under name + alpha ("midpoint_averaging0.500").
+void WriteOdeSolution(std::ostream& csv, std::ostream& md, const std::string& name, double alpha,
+                      const std::vector<double>& y, std::map<std::string, std::vector<double>>& solutions) {
+  double max_error = 0.0;
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    const double x = static_cast<double>(k) * LinearOde::kH;
+    WriteRow(csv, {"ode", name, alpha, LinearOde::kH, x, y[k], LinearOde::Exact(x)});
+    max_error = std::max(max_error, std::abs(y[k] - LinearOde::Exact(x)));
+  }
+  md << "| " << name << " | " << (std::isnan(alpha) ? "" : Fixed(alpha, 3)) << " | " << Fixed(y.back(), 8) << " | "
+     << Fixed(LinearOde::Exact(1.0), 8) << " | " << Sci(std::abs(y.back() - LinearOde::Exact(1.0))) << " | "
+     << Sci(max_error) << " |\n";
+  solutions[name + (std::isnan(alpha) ? "" : Fixed(alpha, 3))] = y;
+}
 
+// How the schemes relate on the ODE, and the paper's claims about them.
+void CompareOdeSolutions(std::ostream& md, std::map<std::string, std::vector<double>>& solutions,
+                         std::vector<Claim>& claims, bool& ok) {
   const auto& mid = solutions["midpoint_averaging0.500"];
   double mid_vs_heun = 0.0, mid_vs_improved = 0.0, improved_vs_explicit = 0.0;
   for (std::size_t k = 0; k < mid.size(); ++k) {
@@ -130,6 +119,26 @@ void RunOde(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, boo
   const double e_ee = std::abs(solutions["explicit_euler"].back() - LinearOde::Exact(1.0));
   claims.push_back({"Fig. 2: on the ODE, RK4 is most accurate, backward (implicit) Euler second, explicit Euler last",
                     e_rk4 < e_be && e_be < e_ee, true});
+}
+
+void RunOde(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, bool& ok) {
+  const double nan = std::nan("");
+  const OdeMethod methods[] = {
+      {"explicit_euler", core::FirstOrderMethod::kExplicitEuler, nan},
+      {"improved_euler", core::FirstOrderMethod::kImprovedEuler, nan},
+      {"heun", core::FirstOrderMethod::kHeun, nan},
+      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.5},
+      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.375},
+      {"midpoint_averaging", core::FirstOrderMethod::kMidpointAveraging, 0.625},
+      {"rk4", core::FirstOrderMethod::kRk4, nan},
+  };
+  md << "## Problem `ode`: y' = -y + 2x + 3, y(0) = 0, h = 0.05, exact y = 2x + 1 - e^-x\n\n"
+     << "| method | alpha | y(1) | exact y(1) | abs error at x = 1 | max abs error on [0, 1] |\n"
+     << "|---|---|---|---|---|---|\n";
+  std::map<std::string, std::vector<double>> solutions;
+  for (const OdeMethod& m : methods) WriteOdeSolution(csv, md, m.name, m.alpha, SolveOde(m), solutions);
+  WriteOdeSolution(csv, md, "backward_euler", nan, SolveOdeBackwardEuler(), solutions);
+  CompareOdeSolutions(md, solutions, claims, ok);
 }
 
 // ---- problem 2: the damped particle ---------------------------------------
@@ -217,8 +226,12 @@ std::string Label(const ParticleMethod& m) {
   return label;
 }
 
-void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, bool& ok) {
-  const Reference ref = MakeReference();
+// Max abs errors by Label(method), then step.
+using ParticleErrors = std::map<std::string, std::map<double, Errors>>;
+
+// Every method at every step against the reference: CSV rows and the
+// markdown error table.
+ParticleErrors WriteParticleErrors(std::ostream& csv, std::ostream& md, const Reference& ref, bool& ok) {
   const core::LinearParticle& p = DampedParticle::kParticle;
   md << "## Problem `particle`: m x'' = -k x - c x', m = " << p.m_kg << " kg, k = " << p.k_N_per_m
      << " N/m, c = " << p.c_Ns_per_m << " N s/m (w0 = 2 rad/s, damping ratio 0.1), x(0) = 1 m, v(0) = 0, t in [0, 10] s\n\n"
@@ -226,7 +239,7 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
      << Sci(ref.max_error_vs_closed_form) << ". Errors are max abs(value - reference) over all steps.\n\n"
      << "| method | alpha | h = 0.02: max abs err x | v | h = 0.1: x | v | h = 0.4: x | v |\n|---|---|---|---|---|---|---|---|\n";
   if (!(ref.max_error_vs_closed_form < 1e-10)) ok = false;
-  std::map<std::string, std::map<double, Errors>> errors;
+  ParticleErrors errors;
   for (const ParticleMethod& m : kParticleMethods) {
     md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fixed(m.choice.alpha, 3) : "");
     for (const double h : DampedParticle::kSteps_s) {
@@ -236,7 +249,10 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
     }
     md << " |\n";
   }
+  return errors;
+}
 
+void WriteConvergenceOrders(std::ostream& md, bool& ok) {
   md << "\n### Convergence order (max abs x error on [0, 2] s, h = 0.01 vs 0.005)\n\n| method | alpha | observed order | theory |\n|---|---|---|---|\n";
   for (const ParticleMethod& m : kParticleMethods) {
     const double theory = m.choice.kind == IntegratorKind::kRk4 ? 4.0
@@ -247,28 +263,39 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
     md << "| " << core::ToString(m.choice.kind) << " | " << (m.has_alpha ? Fixed(m.choice.alpha, 3) : "") << " | "
        << Fixed(order, 3) << " | " << theory << " |\n";
   }
+}
 
-  // Stability intervals of the alpha family on this particle's mode.
+// The alpha family on the particle's mode, by alpha.
+struct AlphaStability {
+  std::map<double, double> h_stable, radius;  // largest stable step (damped); spectral radius at h = 0.4
+  bool undamped_38_grows = true;              // alpha = 3/8 anti-damps at h = 0.01, 0.1 and 0.4
+};
+
+// Stability intervals of the alpha family on this particle's mode.
+AlphaStability WriteAlphaStability(std::ostream& md) {
+  const core::LinearParticle& p = DampedParticle::kParticle;
   const double w2 = p.k_N_per_m / p.m_kg, g = p.c_Ns_per_m / p.m_kg;
   md << "\n### Midpoint-averaging: stability and per-step decay at h = 0.4 (w0 h = 0.8)\n\n"
      << "| alpha | largest stable h (damping ratio 0.1) | undamped: spectral radius at h = 0.01, 0.1, 0.4 | spectral radius at h = 0.4 (damped) | exact decay e^(-c h / 2m) |\n|---|---|---|---|---|\n";
-  std::map<double, double> h_stable, radius;
-  bool undamped_38_grows = true;
+  AlphaStability st;
   for (const double alpha : {0.5, 0.375, 0.625}) {
     const IntegratorChoice c{IntegratorKind::kMidpointAveraging, alpha};
-    h_stable[alpha] = core::CriticalTimeStep_s(core::ModeBounds{w2, g, g}, c);
-    radius[alpha] = core::AmplificationRadius(c, w2, g, 0.4);
+    st.h_stable[alpha] = core::CriticalTimeStep_s(core::ModeBounds{w2, g, g}, c);
+    st.radius[alpha] = core::AmplificationRadius(c, w2, g, 0.4);
     std::string undamped;
     for (const double h : {0.01, 0.1, 0.4}) {
       const double r = core::AmplificationRadius(c, w2, 0.0, h);
       undamped += Fixed(r, 10) + (r > 1.0 ? " (grows)" : "") + (h < 0.4 ? ", " : "");
-      if (alpha == 0.375) undamped_38_grows = undamped_38_grows && r > 1.0;
+      if (alpha == 0.375) st.undamped_38_grows = st.undamped_38_grows && r > 1.0;
     }
-    md << "| " << Fixed(alpha, 3) << " | " << Fixed(h_stable[alpha], 4) << " s | " << undamped << " | "
-       << Fixed(radius[alpha], 5) << " | " << Fixed(core::pmath::Exp(-0.5 * g * 0.4), 5) << " |\n";
+    md << "| " << Fixed(alpha, 3) << " | " << Fixed(st.h_stable[alpha], 4) << " s | " << undamped << " | "
+       << Fixed(st.radius[alpha], 5) << " | " << Fixed(core::pmath::Exp(-0.5 * g * 0.4), 5) << " |\n";
   }
+  return st;
+}
 
-  // The paper's claims on the particle.
+// Fig. 7/8 and 5: how the methods rank, and which alpha is best where.
+void AddParticleRankingClaims(ParticleErrors& errors, const Reference& ref, std::vector<Claim>& claims) {
   auto err = [&](const char* label, double h) { return errors[label][h]; };
   bool mid_beats_ie_beats_ee = true;
   for (const double h : DampedParticle::kSteps_s) {
@@ -301,15 +328,27 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
                           Fixed(best, 3) + " wins)",
                       best == 0.375, false});
   }
+}
+
+// Why 3/8 wins at h = 0.4, and where it is stable.
+void AddAlphaStabilityClaims(AlphaStability& st, std::vector<Claim>& claims) {
+  const core::LinearParticle& p = DampedParticle::kParticle;
+  const double g = p.c_Ns_per_m / p.m_kg;
   const double decay = core::pmath::Exp(-0.5 * g * 0.4);
-  claims.push_back({"reason at h = 0.4: alpha = 3/8 adds the least numerical damping (spectral radius closest to e^(-c h / 2m))",
-                    std::abs(radius[0.375] - decay) < std::abs(radius[0.5] - decay) &&
-                        std::abs(radius[0.375] - decay) < std::abs(radius[0.625] - decay),
-                    true});
+  claims.push_back(
+      {"reason at h = 0.4: alpha = 3/8 adds the least numerical damping (spectral radius closest to e^(-c h / 2m))",
+       std::abs(st.radius[0.375] - decay) < std::abs(st.radius[0.5] - decay) &&
+           std::abs(st.radius[0.375] - decay) < std::abs(st.radius[0.625] - decay),
+       true});
   claims.push_back({"alpha = 3/8 has the widest stability interval once there is damping (damping ratio 0.1)",
-                    h_stable[0.375] > h_stable[0.5] && h_stable[0.375] > h_stable[0.625], true});
+                    st.h_stable[0.375] > st.h_stable[0.5] && st.h_stable[0.375] > st.h_stable[0.625], true});
   claims.push_back({"alpha = 3/8 is stable without damping (it anti-damps: spectral radius > 1 at h = 0.01, 0.1, 0.4)",
-                    !undamped_38_grows, false});
+                    !st.undamped_38_grows, false});
+}
+
+// Fig. 8c and the order of the alpha family.
+void AddMidpointAccuracyClaims(ParticleErrors& errors, std::vector<Claim>& claims) {
+  auto err = [&](const char* label, double h) { return errors[label][h]; };
   claims.push_back({"Fig. 8c: midpoint-averaging (alpha = 1/2) nearly coincides with the reference at h = 0.02 and 0.1 "
                     "(max abs x error < 2 % of the 1 m amplitude: " + Sci(err("midpoint_averaging 0.500", 0.02).x) + ", " +
                         Sci(err("midpoint_averaging 0.500", 0.1).x) + " m)",
@@ -319,6 +358,17 @@ void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>&
     all_second_order = all_second_order && std::abs(ObservedOrder({{IntegratorKind::kMidpointAveraging, a}, true}) - 2.0) < 0.15;
   claims.push_back({"midpoint-averaging is second order for every alpha (the paper implies alpha only tunes accuracy)",
                     all_second_order, false});
+}
+
+void RunParticleProblem(std::ostream& csv, std::ostream& md, std::vector<Claim>& claims, bool& ok) {
+  const Reference ref = MakeReference();
+  ParticleErrors errors = WriteParticleErrors(csv, md, ref, ok);
+  WriteConvergenceOrders(md, ok);
+  AlphaStability stability = WriteAlphaStability(md);
+  // The paper's claims on the particle.
+  AddParticleRankingClaims(errors, ref, claims);
+  AddAlphaStabilityClaims(stability, claims);
+  AddMidpointAccuracyClaims(errors, claims);
 }
 
 int RunIntegrators(const std::filesystem::path& out_dir) {

@@ -92,14 +92,37 @@ Row RadialFit(const std::string& body, int lmax, const Eigen::Matrix3Xd& p,
           fit.condition_number, fit.rms_residual_m, fit.max_residual_m, std::sqrt(sum2 / probe.cols()), worst, site};
 }
 
-int Run(const std::filesystem::path& out) {
+// Natural parametrisation: x = a sinθcosφ, ... — degree 1 exactly. Fitted
+// from n Fibonacci directions, held-out error against the exact points.
+Row NaturalEllipsoidFit(int lmax, int k, int n) {
+  const Eigen::Matrix3Xd u = FibonacciDirections(n);
+  Eigen::Matrix2Xd tp(2, n);
+  Eigen::Matrix3Xd q(3, n);
+  for (int i = 0; i < n; ++i) {
+    DirectionToAngles(u.col(i), tp(0, i), tp(1, i));
+    q.col(i) << kA * u(0, i), kB * u(1, i), kC * u(2, i);
+  }
+  const ShFitResult fit = FitShSurface(lmax, tp, q);
+  const RealShBasis basis(lmax);
+  Eigen::VectorXd y(basis.Size());
+  const Eigen::Matrix3Xd probe = FibonacciDirections(kHoldout);
+  double worst = 0.0, sum2 = 0.0, site = 0.0;
+  for (int i = 0; i < kHoldout; ++i) {
+    basis.EvaluateDirection(probe.col(i), y);
+    const Eigen::Vector3d exact(kA * probe(0, i), kB * probe(1, i), kC * probe(2, i));
+    const double err_m = (ShSurfacePoint(fit.surface, y) - exact).norm();
+    worst = std::max(worst, err_m);
+    sum2 += err_m * err_m;
+    if (probe(1, i) > core::pmath::Cos(std::numbers::pi / 6)) site = std::max(site, err_m);
+  }
+  return {"ellipsoid_natural",        lmax,  k,   n, fit.condition_number, fit.rms_residual_m, fit.max_residual_m,
+          std::sqrt(sum2 / kHoldout), worst, site};
+}
+
+// Every body fitted at every Lmax of kLmaxes.
+std::vector<Row> FitEveryBody(const TriangleMesh& obj) {
   std::vector<Row> rows;
   const LimbSegmentDef limb;
-  const std::string obj_text = StarObj(40, 80);
-  std::ofstream(out / "star.obj") << obj_text;
-  const TriangleMesh obj = io::ParseObj(obj_text);
-  const bool obj_star = IsStarShapedAbout(obj, Eigen::Vector3d::Zero());
-
   for (int lmax : kLmaxes) {
     const int k = (lmax + 1) * (lmax + 1);
     const int n = std::max(600, 3 * k);
@@ -109,89 +132,72 @@ int Run(const std::filesystem::path& out) {
     for (int i = 0; i < n; ++i) e.col(i) *= EllipsoidRadius(e.col(i));
     rows.push_back(RadialFit("ellipsoid_radial", lmax, e, EllipsoidRadius));
     rows.push_back(RadialFit("obj_star", lmax, obj.vertices_m, StarRadius));
-    // Natural parametrisation: x = a sinθcosφ, ... — degree 1 exactly.
-    const Eigen::Matrix3Xd u = FibonacciDirections(n);
-    Eigen::Matrix2Xd tp(2, n);
-    Eigen::Matrix3Xd q(3, n);
-    for (int i = 0; i < n; ++i) {
-      DirectionToAngles(u.col(i), tp(0, i), tp(1, i));
-      q.col(i) << kA * u(0, i), kB * u(1, i), kC * u(2, i);
-    }
-    const ShFitResult fit = FitShSurface(lmax, tp, q);
-    const RealShBasis basis(lmax);
-    Eigen::VectorXd y(basis.Size());
-    const Eigen::Matrix3Xd probe = FibonacciDirections(kHoldout);
-    double worst = 0.0, sum2 = 0.0, site = 0.0;
-    for (int i = 0; i < kHoldout; ++i) {
-      basis.EvaluateDirection(probe.col(i), y);
-      const Eigen::Vector3d exact(kA * probe(0, i), kB * probe(1, i), kC * probe(2, i));
-      const double err_m = (ShSurfacePoint(fit.surface, y) - exact).norm();
-      worst = std::max(worst, err_m);
-      sum2 += err_m * err_m;
-      if (probe(1, i) > core::pmath::Cos(std::numbers::pi / 6)) site = std::max(site, err_m);
-    }
-    rows.push_back({"ellipsoid_natural", lmax, k, n, fit.condition_number, fit.rms_residual_m, fit.max_residual_m,
-                    std::sqrt(sum2 / kHoldout), worst, site});
+    rows.push_back(NaturalEllipsoidFit(lmax, k, n));
   }
-  {
-    std::ofstream f(out / "fit_error.csv");
-    f << "body,lmax,k,samples,condition_number,rms_residual_mm,max_residual_mm,holdout_rms_error_mm,"
-         "holdout_max_error_mm,site_max_error_mm\n";
-    for (const auto& r : rows) {
-      char line[256];
-      std::snprintf(line, sizeof line, "%s,%d,%d,%d,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e\n", r.body.c_str(), r.lmax, r.k,
-                    r.samples, r.cond, 1e3 * r.rms_m, 1e3 * r.max_m, 1e3 * r.holdout_rms_m, 1e3 * r.holdout_m,
-                    1e3 * r.site_m);
-      f << line;
-    }
+  return rows;
+}
+
+void WriteFitErrorCsv(const std::filesystem::path& out, const std::vector<Row>& rows) {
+  std::ofstream f(out / "fit_error.csv");
+  f << "body,lmax,k,samples,condition_number,rms_residual_mm,max_residual_mm,holdout_rms_error_mm,"
+       "holdout_max_error_mm,site_max_error_mm\n";
+  for (const auto& r : rows) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%s,%d,%d,%d,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e\n", r.body.c_str(), r.lmax, r.k,
+                  r.samples, r.cond, 1e3 * r.rms_m, 1e3 * r.max_m, 1e3 * r.holdout_rms_m, 1e3 * r.holdout_m,
+                  1e3 * r.site_m);
+    f << line;
   }
-  // Basis values at random points, and the same check in C++ against std::sph_legendre.
+}
+
+// Basis values at random points (sh_values.csv), and the same check in C++
+// against std::sph_legendre: the worst difference.
+double WriteShValuesAgainstSphLegendre(const std::filesystem::path& out) {
   double worst_value = 0.0;
-  {
-    std::ofstream f(out / "sh_values.csv");
-    f << "l,m,theta_rad,phi_rad,value\n";
-    constexpr int kL = 30;
-    const RealShBasis basis(kL);
-    Eigen::VectorXd y(basis.Size());
-    std::mt19937 rng(2026);
-    std::uniform_real_distribution<double> th(0.0, std::numbers::pi), ph(0.0, 2 * std::numbers::pi);
-    for (int trial = 0; trial < 40; ++trial) {
-      const double theta = th(rng), phi = ph(rng);
-      basis.Evaluate(theta, phi, y);
-      for (int l = 0; l <= kL; ++l)
-        for (int m = -l; m <= l; ++m) {
-          const double p = std::sph_legendre(static_cast<unsigned>(l), static_cast<unsigned>(std::abs(m)), theta);
-          const double ref =
-              m == 0 ? p : std::numbers::sqrt2 * p * (m > 0 ? core::pmath::Cos(m * phi) : core::pmath::Sin(-m * phi));
-          worst_value = std::max(worst_value, std::abs(y[RealShBasis::Index(l, m)] - ref));
-          char line[128];
-          std::snprintf(line, sizeof line, "%d,%d,%.17g,%.17g,%.17g\n", l, m, theta, phi, y[RealShBasis::Index(l, m)]);
-          f << line;
-        }
-    }
+  std::ofstream f(out / "sh_values.csv");
+  f << "l,m,theta_rad,phi_rad,value\n";
+  constexpr int kL = 30;
+  const RealShBasis basis(kL);
+  Eigen::VectorXd y(basis.Size());
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> th(0.0, std::numbers::pi), ph(0.0, 2 * std::numbers::pi);
+  for (int trial = 0; trial < 40; ++trial) {
+    const double theta = th(rng), phi = ph(rng);
+    basis.Evaluate(theta, phi, y);
+    for (int l = 0; l <= kL; ++l)
+      for (int m = -l; m <= l; ++m) {
+        const double p = std::sph_legendre(static_cast<unsigned>(l), static_cast<unsigned>(std::abs(m)), theta);
+        const double ref =
+            m == 0 ? p : std::numbers::sqrt2 * p * (m > 0 ? core::pmath::Cos(m * phi) : core::pmath::Sin(-m * phi));
+        worst_value = std::max(worst_value, std::abs(y[RealShBasis::Index(l, m)] - ref));
+        char line[128];
+        std::snprintf(line, sizeof line, "%d,%d,%.17g,%.17g,%.17g\n", l, m, theta, phi, y[RealShBasis::Index(l, m)]);
+        f << line;
+      }
   }
+  return worst_value;
+}
+
+// What FitShSurface says when given fewer samples than coefficients.
+std::string TooFewSamplesMessage() {
   std::string too_few_message;
   try {
     FitShSurface(10, Eigen::Matrix2Xd::Zero(2, 100), Eigen::Matrix3Xd::Zero(3, 100));
   } catch (const std::invalid_argument& e) {
     too_few_message = e.what();
   }
+  return too_few_message;
+}
 
-  struct Check {
-    std::string claim;
-    bool ok;
-    std::string detail;
-  };
-  std::vector<Check> checks;
-  checks.push_back({"real SH = std::sph_legendre construction to 1e-12 (Lmax 30, 40 random points)",
-                    worst_value < 1e-12, std::to_string(worst_value)});
-  double natural_worst = 0.0;
-  for (const auto& r : rows)
-    if (r.body == "ellipsoid_natural") natural_worst = std::max(natural_worst, r.holdout_m);
-  checks.push_back({"ellipsoid (natural parametrisation) fitted exactly from Lmax = 1", natural_worst < 1e-15,
-                    std::to_string(natural_worst) + " m"});
-  // RMS error must fall with Lmax until it reaches the data's round-off
-  // floor (1 nm: the OBJ text keeps 10 digits).
+struct ShfCheck {
+  std::string claim;
+  bool ok;
+  std::string detail;
+};
+
+// RMS error must fall with Lmax until it reaches the data's round-off
+// floor (1 nm: the OBJ text keeps 10 digits).
+void CheckErrorFallsWithLmax(const std::vector<Row>& rows, std::vector<ShfCheck>* checks) {
   constexpr double kFloor_m = 1e-9;
   for (const std::string body : {"limb_segment", "ellipsoid_radial", "obj_star"}) {
     std::vector<double> err;
@@ -199,14 +205,14 @@ int Run(const std::filesystem::path& out) {
       if (r.body == body) err.push_back(r.holdout_rms_m);
     bool falls = err.back() < 0.01 * err.front();
     for (std::size_t i = 1; i < err.size(); ++i) falls = falls && (err[i] <= err[i - 1] * (1 + 1e-9) || err[i] < kFloor_m);
-    checks.push_back({body + ": held-out RMS error falls as Lmax grows", falls,
-                      std::to_string(1e3 * err.front()) + " mm at Lmax 1 -> " + std::to_string(1e3 * err.back()) +
-                          " mm at Lmax 20"});
+    checks->push_back({body + ": held-out RMS error falls as Lmax grows", falls,
+                       std::to_string(1e3 * err.front()) + " mm at Lmax 1 -> " + std::to_string(1e3 * err.back()) +
+                           " mm at Lmax 20"});
   }
-  checks.push_back({"OBJ mesh is star-shaped about its centre", obj_star, std::to_string(obj.triangles.size()) + " triangles"});
-  checks.push_back({"too few samples is reported", too_few_message.find("need at least k") != std::string::npos,
-                    too_few_message});
+}
 
+// summary.md and stdout; true if every check holds.
+bool ReportShfChecks(const std::filesystem::path& out, const std::vector<ShfCheck>& checks) {
   bool all = true;
   std::ofstream md(out / "summary.md");
   md << "# shf validation\n\n| claim | ok | detail |\n|---|---|---|\n";
@@ -215,7 +221,33 @@ int Run(const std::filesystem::path& out) {
     std::printf("%-72s %s  %s\n", c.claim.c_str(), c.ok ? "ok  " : "FAIL", c.detail.c_str());
     all = all && c.ok;
   }
-  return all ? 0 : 1;
+  return all;
+}
+
+int Run(const std::filesystem::path& out) {
+  const std::string obj_text = StarObj(40, 80);
+  std::ofstream(out / "star.obj") << obj_text;
+  const TriangleMesh obj = io::ParseObj(obj_text);
+  const bool obj_star = IsStarShapedAbout(obj, Eigen::Vector3d::Zero());
+  const std::vector<Row> rows = FitEveryBody(obj);
+  WriteFitErrorCsv(out, rows);
+  const double worst_value = WriteShValuesAgainstSphLegendre(out);
+  const std::string too_few_message = TooFewSamplesMessage();
+
+  std::vector<ShfCheck> checks;
+  checks.push_back({"real SH = std::sph_legendre construction to 1e-12 (Lmax 30, 40 random points)",
+                    worst_value < 1e-12, std::to_string(worst_value)});
+  double natural_worst = 0.0;
+  for (const auto& r : rows)
+    if (r.body == "ellipsoid_natural") natural_worst = std::max(natural_worst, r.holdout_m);
+  checks.push_back({"ellipsoid (natural parametrisation) fitted exactly from Lmax = 1", natural_worst < 1e-15,
+                    std::to_string(natural_worst) + " m"});
+  CheckErrorFallsWithLmax(rows, &checks);
+  checks.push_back(
+      {"OBJ mesh is star-shaped about its centre", obj_star, std::to_string(obj.triangles.size()) + " triangles"});
+  checks.push_back(
+      {"too few samples is reported", too_few_message.find("need at least k") != std::string::npos, too_few_message});
+  return ReportShfChecks(out, checks) ? 0 : 1;
 }
 
 }  // namespace

@@ -15,15 +15,15 @@
 //    100k nodes, single thread.
 // force_displacement.csv has the three models of the scene's `model`
 // parameter (the paper's and its two baselines) on the same vein.
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "hapsim/core/meshless/meshless_forces.h"
 #include "hapsim/core/meshless/meshless_model.h"
@@ -205,6 +205,15 @@ std::vector<Check> UniaxialTension() {
 // (Sneddon 1965; frictionless punch). The block is a layer of finite depth
 // on a rigid base, so it must be stiffer than the half-space: the reference
 // is a lower bound, and the check brackets the ratio.
+void WriteFlatPunchCsv(const std::filesystem::path& out, const std::array<int, 3>& nodes, double s, double E, double nu,
+                       double a_eff, double delta, double reaction) {
+  std::ofstream csv(out / "flat_punch.csv");
+  csv.precision(17);
+  csv << "nodes_x,nodes_y,nodes_z,spacing_m,youngs_modulus_Pa,poisson_ratio,punch_radius_m,depth_m,force_N\n"
+      << nodes[0] << "," << nodes[1] << "," << nodes[2] << "," << s << "," << E << "," << nu << "," << a_eff << ","
+      << delta << "," << reaction << "\n";
+}
+
 Check FlatPunch(const std::filesystem::path& out, double* ratio_out) {
   constexpr int nx = 16, ny = 16, nz = 10;
   constexpr double s = 1e-3, E = 1e5, nu = 0.3, a = 3e-3, delta = 1e-5;
@@ -233,11 +242,7 @@ Check FlatPunch(const std::filesystem::path& out, double* ratio_out) {
   const double half_space = 2.0 * a_eff * E * delta / (1.0 - nu * nu);
   *ratio_out = reaction / half_space;
   // The same block for check_vessel.py's own finite-element solve.
-  std::ofstream csv(out / "flat_punch.csv");
-  csv.precision(17);
-  csv << "nodes_x,nodes_y,nodes_z,spacing_m,youngs_modulus_Pa,poisson_ratio,punch_radius_m,depth_m,force_N\n"
-      << nx << "," << ny << "," << nz << "," << s << "," << E << "," << nu << "," << a_eff << "," << delta << ","
-      << reaction << "\n";
+  WriteFlatPunchCsv(out, {nx, ny, nz}, s, E, nu, a_eff, delta, reaction);
   return {"flat punch (radius " + Fixed(a_eff * 1e3, 2) + " mm, 10 mm layer on a rigid base): force / half-space force",
           *ratio_out,
           1.0,
@@ -343,7 +348,9 @@ Check RendersItsSlope(const std::vector<PressSample>& curve, double across_mm) {
               Sci(ForceAt(curve, 2.0), 3) + " N"};
 }
 
-int Run(const std::filesystem::path& out) {
+// The analytic checks: patch test, rigid motion, MLS map, hanging chain,
+// uniaxial tension, flat punch.
+std::vector<Check> AnalyticChecks(const std::filesystem::path& out) {
   std::vector<Check> checks;
   checks.push_back(PatchTest());
   for (auto& c : RigidMotion()) checks.push_back(c);
@@ -352,92 +359,112 @@ int Run(const std::filesystem::path& out) {
   for (auto& c : UniaxialTension()) checks.push_back(c);
   double punch_ratio = 0.0;
   checks.push_back(FlatPunch(out, &punch_ratio));
+  return checks;
+}
 
-  const char* kModels[] = {"meshless_xpbd", "mass_spring", "plain_pbd"};
-  std::vector<std::vector<PressSample>> curves;
-  for (int m = 0; m < 3; ++m) curves.push_back(PressVein(m));
-  const std::vector<PressSample> off_03 = PressVein(0, 0.3), off_06 = PressVein(0, 0.6);
-  std::vector<std::vector<PressSample>> felt;  // the skin on: at 0, 0.3, 0.6 mm off the crest
-  for (const double across_mm : {0.0, 0.3, 0.6}) felt.push_back(PressVein(0, across_mm, -1));
-  {
-    std::ofstream csv(out / "force_displacement.csv");
-    csv << "model,skin,across_crest_mm,displacement_mm,force_N,rendered_stiffness_N_per_m\n";
-    auto write = [&](const char* model, int skin, double across_mm, const std::vector<PressSample>& c) {
-      for (const auto& p : c)
-        csv << model << "," << skin << "," << Fixed(across_mm, 1) << "," << Fixed(p.depth_mm, 4) << ","
-            << Sci(p.force_N, 6) << "," << Fixed(p.rendered_N_per_m, 2) << "\n";
-    };
-    for (int m = 0; m < 3; ++m) write(kModels[m], 0, 0.0, curves[static_cast<std::size_t>(m)]);
-    write(kModels[0], 0, 0.3, off_03);
-    write(kModels[0], 0, 0.6, off_06);
-    for (std::size_t k = 0; k < 3; ++k) write(kModels[0], 1, 0.3 * static_cast<double>(k), felt[k]);
-  }
+constexpr const char* kVesselModels[] = {"meshless_xpbd", "mass_spring", "plain_pbd"};
+
+// The vein pressed: each model on the crest, the meshless one 0.3 and 0.6 mm
+// off it, and with the skin on at 0, 0.3 and 0.6 mm.
+struct PressCurves {
+  std::vector<std::vector<PressSample>> models;  // by kVesselModels
+  std::vector<PressSample> off_03, off_06;
+  std::vector<std::vector<PressSample>> felt;
+};
+
+PressCurves PressTheVein() {
+  PressCurves p;
+  for (int m = 0; m < 3; ++m) p.models.push_back(PressVein(m));
+  p.off_03 = PressVein(0, 0.3);
+  p.off_06 = PressVein(0, 0.6);
+  for (const double across_mm : {0.0, 0.3, 0.6}) p.felt.push_back(PressVein(0, across_mm, -1));
+  return p;
+}
+
+void WriteForceDisplacement(const std::filesystem::path& out, const PressCurves& p) {
+  std::ofstream csv(out / "force_displacement.csv");
+  csv << "model,skin,across_crest_mm,displacement_mm,force_N,rendered_stiffness_N_per_m\n";
+  auto write = [&](const char* model, int skin, double across_mm, const std::vector<PressSample>& c) {
+    for (const auto& s : c)
+      csv << model << "," << skin << "," << Fixed(across_mm, 1) << "," << Fixed(s.depth_mm, 4) << ","
+          << Sci(s.force_N, 6) << "," << Fixed(s.rendered_N_per_m, 2) << "\n";
+  };
+  for (int m = 0; m < 3; ++m) write(kVesselModels[m], 0, 0.0, p.models[static_cast<std::size_t>(m)]);
+  write(kVesselModels[0], 0, 0.3, p.off_03);
+  write(kVesselModels[0], 0, 0.6, p.off_06);
+  for (std::size_t k = 0; k < 3; ++k) write(kVesselModels[0], 1, 0.3 * static_cast<double>(k), p.felt[k]);
+}
+
+void PrintPressForces(const PressCurves& p) {
   for (int m = 0; m < 3; ++m) {
-    const auto& c = curves[static_cast<std::size_t>(m)];
-    std::printf("force at 0.5 / 1.0 / 1.5 / 2.0 mm, %s: %.4f / %.4f / %.4f / %.4f N\n", kModels[m], ForceAt(c, 0.5),
-                ForceAt(c, 1.0), ForceAt(c, 1.5), ForceAt(c, 2.0));
+    const auto& c = p.models[static_cast<std::size_t>(m)];
+    std::printf("force at 0.5 / 1.0 / 1.5 / 2.0 mm, %s: %.4f / %.4f / %.4f / %.4f N\n", kVesselModels[m],
+                ForceAt(c, 0.5), ForceAt(c, 1.0), ForceAt(c, 1.5), ForceAt(c, 2.0));
   }
   std::printf("felt through the skin at 0.5 / 1.0 / 1.5 / 2.0 mm on the crest: %.4f / %.4f / %.4f / %.4f N\n",
-              ForceAt(felt[0], 0.5), ForceAt(felt[0], 1.0), ForceAt(felt[0], 1.5), ForceAt(felt[0], 2.0));
-  for (const auto& [across_mm, c] :
-       {std::pair<double, const std::vector<PressSample>*>{0.0, &curves[0]}, {0.3, &off_03}, {0.6, &off_06}})
-    checks.push_back(Holds(*c, across_mm));
-  for (std::size_t k = 0; k < 3; ++k) checks.push_back(RendersItsSlope(felt[k], 0.3 * static_cast<double>(k)));
-  // XPBD's point: the statics do not depend on the solver's sweeps; plain
-  // PBD's do. The vein pressed 0.5 mm with 1 and with 4 sweeps per step.
+              ForceAt(p.felt[0], 0.5), ForceAt(p.felt[0], 1.0), ForceAt(p.felt[0], 1.5), ForceAt(p.felt[0], 2.0));
+}
+
+// XPBD's point: the statics do not depend on the solver's sweeps; plain
+// PBD's do. The vein pressed 0.5 mm with 1 and with 4 sweeps per step.
+void CheckSweepIndependence(const PressCurves& p, std::vector<Check>* checks) {
   auto force_at_half_mm = [&](int model, int sweeps, double tet_fraction) {
     return ForceAt(PressVein(model, 0.0, 0, sweeps, tet_fraction, 0.5), 0.5);
   };
-  const double xpbd_1 = ForceAt(curves[0], 0.5), xpbd_4 = force_at_half_mm(0, 4, 0.0);
-  const double pbd_1 = ForceAt(curves[2], 0.5), pbd_4 = force_at_half_mm(2, 4, 0.0);
-  checks.push_back({"meshless + XPBD: force at 0.5 mm with 4 sweeps / with 1 sweep", xpbd_4 / xpbd_1, 1.0, 0.1,
-                    std::abs(xpbd_4 / xpbd_1 - 1.0) <= 0.1, "1 sweep: " + Sci(xpbd_1, 3) + " N"});
-  checks.push_back({"plain PBD baseline: force at 0.5 mm with 4 sweeps / with 1 sweep (the paper's flaw XPBD removes)",
-                    pbd_4 / pbd_1, 1.0, 0.1, std::abs(pbd_4 / pbd_1 - 1.0) > 0.1,
-                    "1 sweep: " + Sci(pbd_1, 3) + " N; ok = it does depend on the sweeps"});
+  const double xpbd_1 = ForceAt(p.models[0], 0.5), xpbd_4 = force_at_half_mm(0, 4, 0.0);
+  const double pbd_1 = ForceAt(p.models[2], 0.5), pbd_4 = force_at_half_mm(2, 4, 0.0);
+  checks->push_back({"meshless + XPBD: force at 0.5 mm with 4 sweeps / with 1 sweep", xpbd_4 / xpbd_1, 1.0, 0.1,
+                     std::abs(xpbd_4 / xpbd_1 - 1.0) <= 0.1, "1 sweep: " + Sci(xpbd_1, 3) + " N"});
+  checks->push_back({"plain PBD baseline: force at 0.5 mm with 4 sweeps / with 1 sweep (the paper's flaw XPBD removes)",
+                     pbd_4 / pbd_1, 1.0, 0.1, std::abs(pbd_4 / pbd_1 - 1.0) > 0.1,
+                     "1 sweep: " + Sci(pbd_1, 3) + " N; ok = it does depend on the sweeps"});
   const double with_tets = force_at_half_mm(0, 1, 0.2);
   std::printf(
       "meshless + XPBD with the tetrahedron energy constraints (tet_fraction 0.2): force at 0.5 mm %.4f N "
       "(without: %.4f N)\n",
       with_tets, xpbd_1);
+}
 
-  {
-    std::ofstream csv(out / "timing.csv");
-    csv << "model,nodes,step_ms,fps\n";
-    // ~1k, ~5k, ~20k, ~100k nodes (shorter tubes at the finest spacings).
-    for (const auto& [spacing, length] : {std::pair{7.0e-4, 0.03}, std::pair{3.2e-4, 0.03}, std::pair{1.6e-4, 0.015},
-                                          std::pair{0.72e-4, 0.008}}) {
-      const MeshlessModel model = core::BuildMeshlessModel(VeinDef(spacing, length));
-      MeshlessState st = core::MakeMeshlessState(model);
-      st.x_m.row(2).array() += 1e-6 * model.x0_m.row(0).array();  // strained: a real evaluation
-      const int reps = model.n > 50000 ? 5 : 50;
-      const auto t0 = std::chrono::steady_clock::now();
-      for (int r = 0; r < reps; ++r) core::StepMeshless(model, st, 1e-9);
-      const double step_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps;
-      csv << "meshless_step," << model.n << "," << Fixed(step_s * 1e3, 3) << "," << Fixed(1.0 / step_s, 1) << "\n";
-      std::printf("timing: meshless step, %d nodes: %.3f ms (%.0f per s)\n", model.n, step_s * 1e3, 1.0 / step_s);
-    }
-    // The whole scene tick (two physics steps, constraint sweeps, contact,
-    // MLS surface) of each model on the default vein, probe pressing.
-    for (int m = 0; m < 3; ++m) {
-      core::VesselParams params;
-      params.model = m;
-      core::VesselScene scene(params);
-      core::ToolInput t;
-      t.valid = true;
-      const int ticks = 1500;
-      const auto t0 = std::chrono::steady_clock::now();
-      for (int k = 0; k < ticks; ++k) {
-        t.tip_W_m = Eigen::Vector3d(3e-4, 0.0, 2e-3 - 2e-6 * k);
-        scene.Step(t, 1e-3);
-      }
-      const double tick_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / ticks;
-      csv << "scene_tick_" << kModels[m] << "," << scene.Model().n << "," << Fixed(tick_s * 1e3, 3) << ","
-          << Fixed(1.0 / tick_s, 1) << "\n";
-      std::printf("timing: scene tick, %s, %d nodes: %.3f ms\n", kModels[m], scene.Model().n, tick_s * 1e3);
-    }
+// ~1k, ~5k, ~20k, ~100k nodes (shorter tubes at the finest spacings).
+void TimeMeshlessSteps(std::ofstream& csv) {
+  for (const auto& [spacing, length] :
+       {std::pair{7.0e-4, 0.03}, std::pair{3.2e-4, 0.03}, std::pair{1.6e-4, 0.015}, std::pair{0.72e-4, 0.008}}) {
+    const MeshlessModel model = core::BuildMeshlessModel(VeinDef(spacing, length));
+    MeshlessState st = core::MakeMeshlessState(model);
+    st.x_m.row(2).array() += 1e-6 * model.x0_m.row(0).array();  // strained: a real evaluation
+    const int reps = model.n > 50000 ? 5 : 50;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int r = 0; r < reps; ++r) core::StepMeshless(model, st, 1e-9);
+    const double step_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / reps;
+    csv << "meshless_step," << model.n << "," << Fixed(step_s * 1e3, 3) << "," << Fixed(1.0 / step_s, 1) << "\n";
+    std::printf("timing: meshless step, %d nodes: %.3f ms (%.0f per s)\n", model.n, step_s * 1e3, 1.0 / step_s);
   }
+}
 
+// The whole scene tick (two physics steps, constraint sweeps, contact,
+// MLS surface) of each model on the default vein, probe pressing.
+void TimeSceneTicks(std::ofstream& csv) {
+  for (int m = 0; m < 3; ++m) {
+    core::VesselParams params;
+    params.model = m;
+    core::VesselScene scene(params);
+    core::ToolInput t;
+    t.valid = true;
+    const int ticks = 1500;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < ticks; ++k) {
+      t.tip_W_m = Eigen::Vector3d(3e-4, 0.0, 2e-3 - 2e-6 * k);
+      scene.Step(t, 1e-3);
+    }
+    const double tick_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / ticks;
+    csv << "scene_tick_" << kVesselModels[m] << "," << scene.Model().n << "," << Fixed(tick_s * 1e3, 3) << ","
+        << Fixed(1.0 / tick_s, 1) << "\n";
+    std::printf("timing: scene tick, %s, %d nodes: %.3f ms\n", kVesselModels[m], scene.Model().n, tick_s * 1e3);
+  }
+}
+
+// checks.csv, summary.md and stdout; true if every check holds.
+bool ReportVesselChecks(const std::filesystem::path& out, const std::vector<Check>& checks) {
   bool all = true;
   std::ofstream csv(out / "checks.csv");
   csv << "check,measured,reference,tolerance,ok\n";
@@ -453,7 +480,27 @@ int Run(const std::filesystem::path& out) {
     all = all && c.ok;
   }
   md << "\nNot yet: a comparison with published venous indentation data.\n";
-  return all ? 0 : 1;
+  return all;
+}
+
+int Run(const std::filesystem::path& out) {
+  std::vector<Check> checks = AnalyticChecks(out);
+  const PressCurves press = PressTheVein();
+  WriteForceDisplacement(out, press);
+  PrintPressForces(press);
+  for (const auto& [across_mm, c] : {std::pair<double, const std::vector<PressSample>*>{0.0, &press.models[0]},
+                                     {0.3, &press.off_03},
+                                     {0.6, &press.off_06}})
+    checks.push_back(Holds(*c, across_mm));
+  for (std::size_t k = 0; k < 3; ++k) checks.push_back(RendersItsSlope(press.felt[k], 0.3 * static_cast<double>(k)));
+  CheckSweepIndependence(press, &checks);
+  {
+    std::ofstream csv(out / "timing.csv");
+    csv << "model,nodes,step_ms,fps\n";
+    TimeMeshlessSteps(csv);
+    TimeSceneTicks(csv);
+  }
+  return ReportVesselChecks(out, checks) ? 0 : 1;
 }
 
 }  // namespace

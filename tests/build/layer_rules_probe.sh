@@ -49,7 +49,7 @@ endforeach()
 target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
 foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto
           hapsim_runtime hapsim_device_link hapsim_streaming hapsim_classroom hapsim_api hapsim_app
-          hapsim_servo hapsim_bridge hapsim_load hapsim_viewer)
+          hapsim_servo hapsim_bridge hapsim_load hapsim_viewer hapsim_viewer_export)
   add_library(${t} INTERFACE)
 endforeach()
 foreach(t hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate)
@@ -68,13 +68,14 @@ link(hapsim_wire hapsim_core hapsim_dds_types)
 link(hapsim_runtime hapsim_core hapsim_common)
 link(hapsim_device_link hapsim_runtime hapsim_dds hapsim_wire)
 link(hapsim_streaming hapsim_runtime hapsim_proto gRPC::grpc++)
-link(hapsim_classroom hapsim_runtime hapsim_proto)
+link(hapsim_classroom hapsim_runtime)
 link(hapsim_api hapsim_device_link hapsim_streaming hapsim_classroom)
 link(hapsim_app hapsim_api)
 link(hapsim_servo hapsim_core hapsim_common)
 link(hapsim_bridge hapsim_servo hapsim_dds hapsim_wire)
 link(hapsim_load hapsim_bridge)
 link(hapsim_viewer hapsim_proto hapsim_common gRPC::grpc++ Eigen3::Eigen)
+link(hapsim_viewer_export hapsim_viewer)
 include(${CMAKE_CURRENT_SOURCE_DIR}/probe.cmake OPTIONAL)  # the injected violation, if any
 include(HapsimLayerRules)
 CMAKE
@@ -158,6 +159,8 @@ expect classroom_includes_grpc fail "hapsim::classroom may not include.*grpcpp" 
   sh -c 'echo "#include <grpcpp/grpcpp.h>" >>server/classroom/src/class_config.cpp'
 expect classroom_includes_streaming fail "hapsim::classroom may not include.*hapsim/streaming/" \
   sh -c 'echo "#include \"hapsim/streaming/viewer_hub.h\"" >>server/classroom/src/class_config.cpp'
+expect classroom_links_proto fail "hapsim_classroom links hapsim_proto" \
+  sh -c 'echo "link(hapsim_classroom hapsim_proto)" >probe.cmake'
 expect api_includes_wire_types fail "hapsim::api may not include.*haptics" \
   sh -c 'echo "#include \"haptics.h\"" >>server/api/src/session_service.cpp'
 expect api_includes_app fail "hapsim::api may not include.*hapsim/app/" \
@@ -172,6 +175,11 @@ expect load_includes_grpc fail "hapsim::load may not include.*grpcpp" \
   sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/load/src/load_runner.cpp'
 expect load_links_grpc fail "hapsim_load links gRPC::grpc" \
   sh -c 'echo "link(hapsim_load gRPC::grpc++)" >probe.cmake'
+
+expect viewer_client_includes_gltf fail "hapsim::viewer_client_only may not include.*tiny_gltf" \
+  sh -c 'echo "#include <tiny_gltf.h>" >>client-viewer/src/client.cpp'
+expect load_links_export fail "hapsim-load links hapsim_viewer_export" \
+  sh -c 'echo "set_property(TARGET hapsim-load PROPERTY INTERFACE_LINK_LIBRARIES hapsim_viewer_export)" >probe.cmake'
 
 echo "$failures failed"
 [ $failures -eq 0 ]

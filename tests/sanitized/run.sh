@@ -4,14 +4,16 @@
 # Usage: tests/sanitized/run.sh
 # It reuses the fuzz tree (build-fuzz: clang, ASan + UBSan on every target,
 # see tests/fuzz/run.sh), so CI compiles the libraries once for both the
-# fuzzers and these tests instead of building a third tree.
+# fuzzers and these tests instead of building a third tree. That tree is
+# also the one built file by file (unity batches off): a file that only
+# compiles because its batch happened to include something fails here.
 # Integration and validation tests stay in the release run: they time real
 # processes against deadlines that ASan's ~2x slowdown would break.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build="$root/build-fuzz"
 jobs=$(nproc 2>/dev/null || echo 2)
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHAPSIM_FUZZ=ON \
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHAPSIM_FUZZ=ON -DHAPSIM_UNITY_BUILD=OFF \
     -DHAPSIM_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target hapsim-core-tests hapsim-io-tests hapsim-common-tests \
     hapsim-dds-tests hapsim-wire-tests \

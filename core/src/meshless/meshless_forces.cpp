@@ -1,5 +1,7 @@
 #include "hapsim/core/meshless/meshless_forces.h"
 
+#include <Eigen/Geometry>  // cross products: the inversion barrier's volume gradient
+
 namespace hapsim::core {
 
 MeshlessState MakeMeshlessState(const MeshlessModel& model) {

@@ -46,20 +46,34 @@ void ForceSafety::CountEscalation(WatchdogState next) {
   if (from < 3 && to >= 3) ++counters_.disarms;
 }
 
+// The stages in the order the header promises; each takes the previous
+// stage's force.
 Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_s, double dt_s) {
   Eigen::Vector3d f = requested;
-  // 1. garbage in -> nothing out
+  ZeroIfNonFinite(f);         // 1. garbage in -> nothing out
+  ClampMagnitude(f);          // 2. magnitude clamp
+  f *= WatchdogScale(age_s);  // 3. watchdog
+  LimitRise(f, dt_s);         // 4. rise-rate limit (decreases pass at once)
+  last_W_N_ = f;
+  return f;
+}
+
+void ForceSafety::ZeroIfNonFinite(Eigen::Vector3d& f) {
   if (!f.allFinite()) {
     ++counters_.non_finite;
     f.setZero();
   }
-  // 2. magnitude clamp
+}
+
+void ForceSafety::ClampMagnitude(Eigen::Vector3d& f) {
   const double magnitude = f.norm();
   if (magnitude > config_.max_force_N) {
     ++counters_.clamped;
     f *= config_.max_force_N / magnitude;
   }
-  // 3. watchdog
+}
+
+double ForceSafety::WatchdogScale(double age_s) {
   double scale = 1.0;
   WatchdogState next;
   if (age_s < 0.0) {
@@ -83,16 +97,16 @@ Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_
   }
   CountEscalation(next);
   state_ = next;
-  f *= scale;
-  // 4. rise-rate limit (decreases pass at once)
+  return scale;
+}
+
+void ForceSafety::LimitRise(Eigen::Vector3d& f, double dt_s) {
   const double allowed = last_W_N_.norm() + config_.max_rise_N_per_s * dt_s;
   const double wanted = f.norm();
   if (wanted > allowed) {
     ++counters_.rate_limited;
     f *= allowed / wanted;
   }
-  last_W_N_ = f;
-  return f;
 }
 
 }  // namespace hapsim::bridge

@@ -18,6 +18,58 @@ namespace hapsim::service {
 using grpc::Status;
 using grpc::StatusCode;
 
+namespace {
+
+// The classroom's report on the wire.
+void FillScoreReport(const ScoreReport& report, hapsim::v1::ScoreReport* out) {
+  out->set_mu(report.mu);
+  for (const double w : report.subjective_weights) out->add_subjective_weights(w);
+  for (const double w : report.objective_weights) out->add_objective_weights(w);
+  for (const double w : report.combined_weights) out->add_combined_weights(w);
+  out->set_class_mean_score(report.class_mean_score);
+  for (const SessionScoreSheet& sheet : report.sessions) {
+    hapsim::v1::SessionScore* s = out->add_sessions();
+    s->set_session_id(sheet.session_id);
+    s->set_experts(sheet.experts);
+    for (const double x : sheet.mean_indicators) s->add_mean_indicators(x);
+    for (const double w : sheet.objective_weights) s->add_objective_weights(w);
+    for (const double w : sheet.combined_weights) s->add_combined_weights(w);
+    s->set_comprehensive_score(sheet.comprehensive_score);
+    s->set_scheme(sheet.scheme);
+  }
+}
+
+// A class view's rate: 0 asks for the default.
+double CheckedWatchRateHz(double rate_hz) {
+  if (rate_hz == 0.0) rate_hz = ClassroomCalls::kDefaultWatchRateHz;
+  if (!std::isfinite(rate_hz) || rate_hz < 0.1 || rate_hz > ClassroomCalls::kMaxWatchRateHz) {
+    throw ServiceError(ErrorCode::kInvalidArgument, "rate_hz must be 0 (10 Hz) or within [0.1, 50]");
+  }
+  return rate_hz;
+}
+
+// The scenario a PushScenario asks for, checked once before any session is
+// touched: a bad one leaves the class as it was.
+core::SceneSpec PushedScenarioSpec(const hapsim::v1::PushScenarioRequest& req) {
+  if (req.params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
+  core::SceneSpec spec;
+  spec.name = req.scene().empty() ? "tissue_block" : req.scene();
+  for (const auto& [key, value] : req.params()) {
+    if (!std::isfinite(value)) {
+      throw ServiceError(ErrorCode::kInvalidArgument, "scene parameter '" + key.substr(0, 80) + "' is not finite");
+    }
+    spec.params.emplace(key, value);
+  }
+  try {
+    (void)core::MakeScene(spec);
+  } catch (const std::invalid_argument& e) {
+    throw ServiceError(ErrorCode::kInvalidArgument, e.what());
+  }
+  return spec;
+}
+
+}  // namespace
+
 ClassroomCalls::ClassroomCalls(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
                                const AccessPolicy* policy, const TrialBook* trials)
     : registry_(registry),
@@ -38,7 +90,7 @@ Status ClassroomCalls::SubmitScores(grpc::ServerContext* context, const hapsim::
     const auto session = registry_->FindOrThrow(req->session_id());  // scores belong to a live session
     scores_->Submit(req->session_id(), session->config().scene, req->expert(),
                     std::vector<double>(req->indicators().begin(), req->indicators().end()));
-    scores_->Report(req->session_id(), out);
+    FillScoreReport(scores_->Report(req->session_id()), out);
   });
 }
 
@@ -56,7 +108,8 @@ Status ClassroomCalls::GetScores(grpc::ServerContext* context, const hapsim::v1:
       out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
       return;
     }
-    scores_->Report(id, out, [&](const std::string& other) { return policy_->Allows(who, Action::kView, other); });
+    FillScoreReport(
+        scores_->Report(id, [&](const std::string& other) { return policy_->Allows(who, Action::kView, other); }), out);
   });
 }
 
@@ -85,28 +138,37 @@ Status ClassroomCalls::WatchClassOn(grpc::ServerContext* context, const hapsim::
     const auto who = Caller(context);
     policy_->Authorize(who, Action::kWatchClass, req->class_name());
     ids = ClassSessions(req->class_name(), &storage);
-    if (rate_hz == 0.0) rate_hz = kDefaultWatchRateHz;
-    if (!std::isfinite(rate_hz) || rate_hz < 0.1 || rate_hz > kMaxWatchRateHz) {
-      throw ServiceError(ErrorCode::kInvalidArgument, "rate_hz must be 0 (10 Hz) or within [0.1, 50]");
-    }
+    rate_hz = CheckedWatchRateHz(rate_hz);
   });
   if (!allowed.ok()) return allowed;
-  {
-    std::lock_guard lock(watch_mutex_);
-    if (stopping_) return {grpc::StatusCode::UNAVAILABLE, "the server is stopping"};
-    if (watch_streams_ >= kMaxWatchStreams) {
-      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-              "this server already serves " + std::to_string(kMaxWatchStreams) + " class views"};
-    }
-    ++watch_streams_;
+  if (const Status admitted = AdmitWatchStream(); !admitted.ok()) return admitted;
+  StreamClassStatus(context, req->class_name(), ids, rate_hz, writer);
+  std::lock_guard lock(watch_mutex_);
+  --watch_streams_;
+  return Status::OK;
+}
+
+Status ClassroomCalls::AdmitWatchStream() {
+  std::lock_guard lock(watch_mutex_);
+  if (stopping_) return {grpc::StatusCode::UNAVAILABLE, "the server is stopping"};
+  if (watch_streams_ >= kMaxWatchStreams) {
+    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+            "this server already serves " + std::to_string(kMaxWatchStreams) + " class views"};
   }
+  ++watch_streams_;
+  return Status::OK;
+}
+
+void ClassroomCalls::StreamClassStatus(grpc::ServerContext* context, const std::string& class_name,
+                                       const std::vector<std::string>* ids, double rate_hz,
+                                       grpc::ServerWriterInterface<hapsim::v1::ClassStatus>* writer) {
   ClassStatusBuilder builder(registry_, hub_, scores_);
   const auto period =
       std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
   auto next = std::chrono::steady_clock::now();
   while (true) {
     hapsim::v1::ClassStatus status;
-    status.set_class_name(req->class_name());
+    status.set_class_name(class_name);
     builder.Fill(ids, &status);
     if (!writer->Write(status)) break;  // the instructor went away
     next += period;
@@ -114,9 +176,6 @@ Status ClassroomCalls::WatchClassOn(grpc::ServerContext* context, const hapsim::
     if (watch_wake_.wait_until(lock, next, [&] { return stopping_; })) break;
     if (context->IsCancelled()) break;
   }
-  std::lock_guard lock(watch_mutex_);
-  --watch_streams_;
-  return Status::OK;
 }
 
 Status ClassroomCalls::GetTrials(grpc::ServerContext* context, const hapsim::v1::TrialQuery* req,
@@ -158,36 +217,24 @@ Status ClassroomCalls::PushScenario(grpc::ServerContext* context, const hapsim::
       for (const auto& s : registry_->List()) all.push_back(s->id());
       ids = &all;
     }
-    if (req->params_size() > 64) throw ServiceError(ErrorCode::kInvalidArgument, "more than 64 scene parameters");
-    core::SceneSpec spec;
-    spec.name = req->scene().empty() ? "tissue_block" : req->scene();
-    for (const auto& [key, value] : req->params()) {
-      if (!std::isfinite(value)) {
-        throw ServiceError(ErrorCode::kInvalidArgument, "scene parameter '" + key.substr(0, 80) + "' is not finite");
-      }
-      spec.params.emplace(key, value);
-    }
-    // Check the scenario once before touching any session: a bad one leaves
-    // the class as it was.
-    try {
-      (void)core::MakeScene(spec);
-    } catch (const std::invalid_argument& e) {
-      throw ServiceError(ErrorCode::kInvalidArgument, e.what());
-    }
-    for (const auto& id : *ids) {
-      std::string trainee = policy_->TraineeOf(id);
-      if (const auto existing = registry_->Find(id)) {
-        trainee = existing->config().owner;  // keeps a trainee named at creation
-        try {
-          registry_->Close(id);
-        } catch (const ServiceError&) {  // closed meanwhile
-        }
-      }
-      DescribeSession(*registry_->Create(id, spec.name, trainee, spec.params), out->add_sessions());
-    }
+    const core::SceneSpec spec = PushedScenarioSpec(*req);
+    for (const auto& id : *ids) RecreateSession(id, spec, out);
     spdlog::info("{} pushed scene '{}' to {} sessions of class '{}'", who ? who->name : "a development client",
                  spec.name, ids->size(), req->class_name());
   });
+}
+
+void ClassroomCalls::RecreateSession(const std::string& id, const core::SceneSpec& spec,
+                                     hapsim::v1::PushScenarioResponse* out) {
+  std::string trainee = policy_->TraineeOf(id);
+  if (const auto existing = registry_->Find(id)) {
+    trainee = existing->config().owner;  // keeps a trainee named at creation
+    try {
+      registry_->Close(id);
+    } catch (const ServiceError&) {  // closed meanwhile
+    }
+  }
+  DescribeSession(*registry_->Create(id, spec.name, trainee, spec.params), out->add_sessions());
 }
 
 }  // namespace hapsim::service

@@ -39,6 +39,23 @@ std::shared_ptr<grpc::ServerCredentials> MakeCredentials(const ServerOptions& o)
   return grpc::SslServerCredentials(ssl);
 }
 
+// How the server listens, and a loud warning when that is unsafe.
+void LogServerListening(const ServerOptions& o, int bound_port) {
+  const bool tls = !o.tls_cert_file.empty();
+  spdlog::info("hapsim-server listening on {} (port {}; {}; {})", o.listen_address, bound_port,
+               tls ? (o.tls_client_ca_file.empty() ? "TLS" : "TLS with client certificates") : "plain TCP",
+               o.classes ? "tokens required" : "no auth: development mode");
+  if (!IsLoopbackAddress(o.listen_address) && !o.classes) {
+    spdlog::warn(
+        "*** NO AUTHENTICATION on {}: anyone who reaches this port can create, reset, close and watch "
+        "every session. Give a --class-config (and TLS) unless this network is yours alone. ***",
+        o.listen_address);
+  }
+  if (!IsLoopbackAddress(o.listen_address) && o.classes && !tls) {
+    spdlog::warn("*** tokens travel in plain text on {}: add --tls-cert/--tls-key ***", o.listen_address);
+  }
+}
+
 }  // namespace
 
 bool IsLoopbackAddress(const std::string& a) {
@@ -48,6 +65,16 @@ bool IsLoopbackAddress(const std::string& a) {
 
 ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(*o.classes) : AccessPolicy()) {
   const auto credentials = MakeCredentials(o);  // bad TLS files fail before anything starts
+  AssembleParts(o);
+  StartGrpc(o, credentials);
+  if (!o.metrics_listen_address.empty()) StartMetrics(o.metrics_listen_address);
+  dds_->Start(registry_.get(), pool_.get());
+  pump_->Start();
+  if (o.classes) CreateClassSessions(*o.classes);
+  LogServerListening(o, bound_port_);
+}
+
+void ServerApp::AssembleParts(const ServerOptions& o) {
   dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
   spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
                dds_->instance());
@@ -59,7 +86,9 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   session_service_ =
       std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_);
   viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m, &policy_);
+}
 
+void ServerApp::StartGrpc(const ServerOptions& o, const std::shared_ptr<grpc::ServerCredentials>& credentials) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::ServerBuilder builder;
   builder.AddListeningPort(o.listen_address, credentials, &bound_port_);
@@ -77,38 +106,26 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
     throw std::runtime_error("cannot listen on " + o.listen_address +
                              " (address in use or invalid? choose another with --listen)");
   }
-  if (!o.metrics_listen_address.empty()) {
-    metrics_ = std::make_unique<MetricsEndpoint>(o.metrics_listen_address, [this] {
-      return FormatMetrics(*registry_, dds_->counters(), pool_->stats(), &grpc_calls_,
-                           policy_.enabled() ? &policy_.counters() : nullptr);
-    });
-    spdlog::info("metrics at http://{}/metrics (port {})", o.metrics_listen_address, metrics_->bound_port());
-  }
-  dds_->Start(registry_.get(), pool_.get());
-  pump_->Start();
-  if (o.classes) {
-    for (const auto& warning : o.classes->warnings) spdlog::warn("class config: {}", warning);
-    try {
-      for (const auto& cls : o.classes->classes) {
-        for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {});
-        spdlog::info("class '{}': {} sessions", cls.name, cls.sessions.size());
-      }
-    } catch (const std::exception& e) {
-      Shutdown();  // everything started above stops before the error leaves
-      throw std::runtime_error(std::string("cannot create the class config's sessions: ") + e.what());
+}
+
+void ServerApp::StartMetrics(const std::string& listen_address) {
+  metrics_ = std::make_unique<MetricsEndpoint>(listen_address, [this] {
+    return FormatMetrics(*registry_, dds_->counters(), pool_->stats(), &grpc_calls_,
+                         policy_.enabled() ? &policy_.counters() : nullptr);
+  });
+  spdlog::info("metrics at http://{}/metrics (port {})", listen_address, metrics_->bound_port());
+}
+
+void ServerApp::CreateClassSessions(const ClassConfig& classes) {
+  for (const auto& warning : classes.warnings) spdlog::warn("class config: {}", warning);
+  try {
+    for (const auto& cls : classes.classes) {
+      for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {});
+      spdlog::info("class '{}': {} sessions", cls.name, cls.sessions.size());
     }
-  }
-  const bool tls = !o.tls_cert_file.empty();
-  spdlog::info("hapsim-server listening on {} (port {}; {}; {})", o.listen_address, bound_port_,
-               tls ? (o.tls_client_ca_file.empty() ? "TLS" : "TLS with client certificates") : "plain TCP",
-               o.classes ? "tokens required" : "no auth: development mode");
-  if (!IsLoopbackAddress(o.listen_address) && !o.classes) {
-    spdlog::warn("*** NO AUTHENTICATION on {}: anyone who reaches this port can create, reset, close and watch "
-                 "every session. Give a --class-config (and TLS) unless this network is yours alone. ***",
-                 o.listen_address);
-  }
-  if (!IsLoopbackAddress(o.listen_address) && o.classes && !tls) {
-    spdlog::warn("*** tokens travel in plain text on {}: add --tls-cert/--tls-key ***", o.listen_address);
+  } catch (const std::exception& e) {
+    Shutdown();  // everything started above stops before the error leaves
+    throw std::runtime_error(std::string("cannot create the class config's sessions: ") + e.what());
   }
 }
 

@@ -65,7 +65,7 @@ void ScoreBook::Submit(const std::string& session_id, const std::string& scene, 
   sheets.by_expert[name] = indicators;
 }
 
-void ScoreBook::Describe(const std::string& id, const Sheets& sheets, hapsim::v1::SessionScore* out) const {
+SessionScoreSheet ScoreBook::Describe(const std::string& id, const Sheets& sheets) const {
   const ScoringScheme scheme = SchemeForScene(sheets.scene);
   const auto n = static_cast<Eigen::Index>(IndicatorCount(scheme));
   // One row per expert: the raters are the samples (acupuncture paper eq. 10-11).
@@ -75,21 +75,23 @@ void ScoreBook::Describe(const std::string& id, const Sheets& sheets, hapsim::v1
     x.row(row++) = Eigen::Map<const Eigen::RowVectorXd>(values.data(), n);
   }
   const Eigen::VectorXd mean = x.colwise().mean().transpose();
-  out->set_session_id(id);
-  out->set_experts(static_cast<std::uint32_t>(x.rows()));
-  for (Eigen::Index j = 0; j < n; ++j) out->add_mean_indicators(mean[j]);
+  SessionScoreSheet out;
+  out.session_id = id;
+  out.experts = static_cast<std::uint32_t>(x.rows());
+  out.mean_indicators.assign(mean.data(), mean.data() + n);
   Eigen::VectorXd weights;
   if (scheme == ScoringScheme::kDelphiMsd) {
     const auto r = core::assessment::ComprehensiveScores(x);
-    for (Eigen::Index j = 0; j < n; ++j) out->add_objective_weights(r.objective_weights[j]);
+    out.objective_weights.assign(r.objective_weights.data(), r.objective_weights.data() + n);
     weights = r.combined_weights;
   } else {
     weights = scheme == ScoringScheme::kCuttingResidents ? core::assessment::CuttingDelphiWeights() : vessel_weights_;
   }
-  for (Eigen::Index j = 0; j < n; ++j) out->add_combined_weights(weights[j]);
+  out.combined_weights.assign(weights.data(), weights.data() + n);
   // mean_i sum_j w_j x_ij = sum_j w_j mean_j
-  out->set_comprehensive_score(core::assessment::WeightedScore(weights, mean));
-  out->set_scheme(SchemeName(scheme));
+  out.comprehensive_score = core::assessment::WeightedScore(weights, mean);
+  out.scheme = SchemeName(scheme);
+  return out;
 }
 
 bool ScoreBook::Scored(const std::string& session_id) const {
@@ -97,45 +99,42 @@ bool ScoreBook::Scored(const std::string& session_id) const {
   return sheets_.count(session_id) > 0;
 }
 
-void ScoreBook::Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
-                       const std::function<bool(const std::string&)>& visible) const {
+ScoreReport ScoreBook::Report(const std::string& session_id,
+                              const std::function<bool(const std::string&)>& visible) const {
   std::lock_guard lock(mutex_);
-  out->set_mu(core::assessment::ComprehensiveScoreResult{}.mu);
+  ScoreReport out;
+  out.mu = core::assessment::ComprehensiveScoreResult{}.mu;
+  const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
   if (!session_id.empty()) {
     const auto found = sheets_.find(session_id);
     if (found == sheets_.end()) {
       throw ServiceError(ErrorCode::kNotFound, "no scores for session '" + session_id.substr(0, 80) + "'");
     }
-    auto* s = out->add_sessions();
-    Describe(found->first, found->second, s);
+    const SessionScoreSheet& s = out.sessions.emplace_back(Describe(found->first, found->second));
     if (SchemeForScene(found->second.scene) == ScoringScheme::kDelphiMsd) {
-      const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
-      for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
+      out.subjective_weights.assign(alpha.data(), alpha.data() + alpha.size());
     }
-    out->mutable_objective_weights()->CopyFrom(s->objective_weights());
-    out->mutable_combined_weights()->CopyFrom(s->combined_weights());
-    out->set_class_mean_score(s->comprehensive_score());
-    return;
+    out.objective_weights = s.objective_weights;
+    out.combined_weights = s.combined_weights;
+    out.class_mean_score = s.comprehensive_score;
+    return out;
   }
-  const Eigen::VectorXd alpha = core::assessment::DelphiWeights();
-  for (Eigen::Index j = 0; j < alpha.size(); ++j) out->add_subjective_weights(alpha[j]);
+  out.subjective_weights.assign(alpha.data(), alpha.data() + alpha.size());
   double total = 0.0;
   for (const auto& [id, sheets] : sheets_) {
     if (visible && !visible(id)) continue;
-    auto* s = out->add_sessions();
-    Describe(id, sheets, s);
-    total += s->comprehensive_score();
+    total += out.sessions.emplace_back(Describe(id, sheets)).comprehensive_score;
   }
-  out->set_class_mean_score(out->sessions_size() ? total / out->sessions_size() : 0.0);
+  out.class_mean_score = out.sessions.empty() ? 0.0 : total / static_cast<double>(out.sessions.size());
+  return out;
 }
 
 std::optional<ScoreBook::Summary> ScoreBook::SummaryOf(const std::string& session_id) const {
   std::lock_guard lock(mutex_);
   const auto found = sheets_.find(session_id);
   if (found == sheets_.end()) return std::nullopt;
-  hapsim::v1::SessionScore s;
-  Describe(found->first, found->second, &s);
-  return Summary{s.experts(), s.comprehensive_score()};
+  const SessionScoreSheet s = Describe(found->first, found->second);
+  return Summary{s.experts, s.comprehensive_score};
 }
 
 }  // namespace hapsim::service

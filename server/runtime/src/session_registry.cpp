@@ -32,52 +32,11 @@ void SessionRegistry::PublishTableLocked() {
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
                                                  std::map<std::string, double> params) {
-  // 1. Reserve the id (brief lock).
-  {
-    std::lock_guard lock(mutex_);
-    if (id.empty()) {
-      do {
-        id = "session-" + std::to_string(next_generated_id_++);
-      } while (sessions_.count(id) || reserved_.count(id));
-    }
-    if (!common::IsValidSessionId(id)) {
-      throw ServiceError(ErrorCode::kInvalidArgument,
-                         "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
-    }
-    if (sessions_.count(id) || reserved_.count(id)) {
-      throw ServiceError(ErrorCode::kAlreadyExists, "session '" + id + "' already exists");
-    }
-    if (sessions_.size() + reserved_.size() >= defaults_.max_sessions) {
-      throw ServiceError(ErrorCode::kResourceExhausted,
-                         "this server already runs its maximum of " + std::to_string(defaults_.max_sessions) +
-                             " sessions; close one or start the server with a larger --max-sessions");
-    }
-    if (owner.size() > 256) throw ServiceError(ErrorCode::kInvalidArgument, "owner name longer than 256 characters");
-    reserved_.insert(id);
-  }
-  // 2. Build with no lock held: other sessions keep ticking and routing poses.
+  id = Reserve(std::move(id), owner);
   std::shared_ptr<Session> session;
   const std::string scene_name = scene.empty() ? "tissue_block" : scene;
-  try {
-    SessionConfig config;
-    config.id = id;
-    config.scene = scene.empty() ? "tissue_block" : std::move(scene);
-    config.owner = std::move(owner);
-    config.params = std::move(params);
-    config.tick_period_s = defaults_.tick_period_s;
-    config.frame_rate_hz = defaults_.frame_rate_hz;
-    config.pose_timeout_s = defaults_.pose_timeout_s;
-    config.pose_slack_s = defaults_.pose_slack_s;
-    // The scene and the session's first-touched buffers, at low priority;
-    // the DDS endpoints only once the scene built (a failed build leaves no
-    // writer in the session's partition for another server to see).
-    RunAtLowPriority([&] {
-      auto built = core::MakeScene({config.scene, config.params});
-      auto port = transport_->Open(config.id);
-      auto tick_listener = tick_listeners_ ? tick_listeners_(config) : nullptr;
-      session =
-          std::make_shared<Session>(std::move(config), std::move(built), std::move(port), std::move(tick_listener));
-    });
+  try {  // no lock held: other sessions keep ticking and routing poses
+    session = Build(id, std::move(scene), std::move(owner), std::move(params));
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
@@ -88,17 +47,66 @@ std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string sce
     ReleaseReservation(id);
     throw;
   }
-  // 3. Publish, then start ticking.
-  {
-    std::lock_guard lock(mutex_);
-    reserved_.erase(id);
-    sessions_.emplace(id, session);
-    PublishTableLocked();
-  }
+  Publish(id, session);  // then start ticking
   session->port().StartReceiving(session.get());
   pool_->Add(session.get(), common::SteadyNowNs());
   spdlog::info("session '{}' created: scene {}", id, session->config().scene);
   return session;
+}
+
+std::string SessionRegistry::Reserve(std::string id, const std::string& owner) {
+  std::lock_guard lock(mutex_);
+  if (id.empty()) {
+    do {
+      id = "session-" + std::to_string(next_generated_id_++);
+    } while (sessions_.count(id) || reserved_.count(id));
+  }
+  if (!common::IsValidSessionId(id)) {
+    throw ServiceError(ErrorCode::kInvalidArgument,
+                       "session id '" + id.substr(0, 80) + "' is invalid: use 1-63 characters of A-Z a-z 0-9 _ -");
+  }
+  if (sessions_.count(id) || reserved_.count(id)) {
+    throw ServiceError(ErrorCode::kAlreadyExists, "session '" + id + "' already exists");
+  }
+  if (sessions_.size() + reserved_.size() >= defaults_.max_sessions) {
+    throw ServiceError(ErrorCode::kResourceExhausted,
+                       "this server already runs its maximum of " + std::to_string(defaults_.max_sessions) +
+                           " sessions; close one or start the server with a larger --max-sessions");
+  }
+  if (owner.size() > 256) throw ServiceError(ErrorCode::kInvalidArgument, "owner name longer than 256 characters");
+  reserved_.insert(id);
+  return id;
+}
+
+std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::string scene, std::string owner,
+                                                std::map<std::string, double> params) {
+  std::shared_ptr<Session> session;
+  SessionConfig config;
+  config.id = id;
+  config.scene = scene.empty() ? "tissue_block" : std::move(scene);
+  config.owner = std::move(owner);
+  config.params = std::move(params);
+  config.tick_period_s = defaults_.tick_period_s;
+  config.frame_rate_hz = defaults_.frame_rate_hz;
+  config.pose_timeout_s = defaults_.pose_timeout_s;
+  config.pose_slack_s = defaults_.pose_slack_s;
+  // The scene and the session's first-touched buffers, at low priority;
+  // the DDS endpoints only once the scene built (a failed build leaves no
+  // writer in the session's partition for another server to see).
+  RunAtLowPriority([&] {
+    auto built = core::MakeScene({config.scene, config.params});
+    auto port = transport_->Open(config.id);
+    auto tick_listener = tick_listeners_ ? tick_listeners_(config) : nullptr;
+    session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port), std::move(tick_listener));
+  });
+  return session;
+}
+
+void SessionRegistry::Publish(const std::string& id, const std::shared_ptr<Session>& session) {
+  std::lock_guard lock(mutex_);
+  reserved_.erase(id);
+  sessions_.emplace(id, session);
+  PublishTableLocked();
 }
 
 std::shared_ptr<Session> SessionRegistry::Find(std::string_view id) const {

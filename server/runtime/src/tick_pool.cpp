@@ -106,13 +106,9 @@ void TickPool::Wake(TickTask* task, std::int64_t due_ns) {
 void TickPool::WorkerLoop() {
   // Wake on time: the default timer slack (50 µs) is 5 % of a 1 kHz period.
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  const auto later = [](const Entry& a, const Entry& b) { return LaterThan(a, b); };
   std::unique_lock lock(mutex_);
   while (!stop_) {
-    while (!heap_.empty() && IsStaleLocked(heap_.front())) {
-      std::pop_heap(heap_.begin(), heap_.end(), later);
-      heap_.pop_back();
-    }
+    DropStaleLocked();
     if (heap_.empty()) {
       work_cv_.wait(lock);
       ++stats_.wakeups;
@@ -125,27 +121,40 @@ void TickPool::WorkerLoop() {
       ++stats_.wakeups;
       continue;
     }
-    std::pop_heap(heap_.begin(), heap_.end(), later);
-    heap_.pop_back();
-    TickTask* task = top.task;
-    task->running_ = true;
-    task->queued_due_ns_ = kNeverNs;
-    // More ticks due now: recruit an idle worker for them.
-    const bool more_due = !heap_.empty() && heap_.front().due_ns <= now_ns + coalesce_ns_;
-    lock.unlock();
-    if (more_due) work_cv_.notify_one();
-    const std::int64_t next_due_ns = task->RunTick(top.due_ns, common::SteadyNowNs());
-    lock.lock();
-    ++stats_.ticks;
-    task->running_ = false;
-    if (!task->registered_) {
-      removed_cv_.notify_all();
-      continue;
-    }
-    const std::int64_t due_ns = std::min(next_due_ns, task->rerun_due_ns_);
-    task->rerun_due_ns_ = kNeverNs;
-    if (due_ns != kNeverNs) PushLocked(task, due_ns);  // this worker loops and sees it: no notify
+    RunTopTick(lock, now_ns);
   }
+}
+
+void TickPool::PopTopLocked() {
+  std::pop_heap(heap_.begin(), heap_.end(), [](const Entry& a, const Entry& b) { return LaterThan(a, b); });
+  heap_.pop_back();
+}
+
+void TickPool::DropStaleLocked() {
+  while (!heap_.empty() && IsStaleLocked(heap_.front())) PopTopLocked();
+}
+
+void TickPool::RunTopTick(std::unique_lock<std::mutex>& lock, std::int64_t now_ns) {
+  const Entry top = heap_.front();
+  PopTopLocked();
+  TickTask* task = top.task;
+  task->running_ = true;
+  task->queued_due_ns_ = kNeverNs;
+  // More ticks due now: recruit an idle worker for them.
+  const bool more_due = !heap_.empty() && heap_.front().due_ns <= now_ns + coalesce_ns_;
+  lock.unlock();
+  if (more_due) work_cv_.notify_one();
+  const std::int64_t next_due_ns = task->RunTick(top.due_ns, common::SteadyNowNs());
+  lock.lock();
+  ++stats_.ticks;
+  task->running_ = false;
+  if (!task->registered_) {
+    removed_cv_.notify_all();
+    return;
+  }
+  const std::int64_t due_ns = std::min(next_due_ns, task->rerun_due_ns_);
+  task->rerun_due_ns_ = kNeverNs;
+  if (due_ns != kNeverNs) PushLocked(task, due_ns);  // this worker loops and sees it: no notify
 }
 
 }  // namespace hapsim::service

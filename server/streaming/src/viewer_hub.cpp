@@ -55,38 +55,49 @@ std::shared_ptr<const SceneSnapshot> ViewerHub::LatestSnapshot(const Session& se
 }
 
 void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
-  for (const auto& [id, session] : sessions) {
-    std::shared_ptr<const SceneSnapshot> fresh;
-    const bool is_new = session->TakeSnapshot(&fresh);
-    std::shared_ptr<const SceneSnapshot> latest;
-    std::shared_ptr<const Links> links;
-    std::shared_ptr<TopologyHistory> history;
-    {
-      std::lock_guard lock(mutex_);
-      Entry& e = EntryLocked(session);
-      if (is_new) e.latest = std::move(fresh);
-      latest = e.latest;
-      links = e.links;
-      history = e.history;
-    }
-    if (!latest) continue;
-    if (is_new) {
-      history->Absorb(*latest);
-      session->MarkTopologyTaken(history->End());
-    }
-    for (const auto& link : *links) {  // outside the lock: may run a reaction inline
-      const ViewerLink::OfferResult result = link->Offer(latest, *history, now_ns);
-      SessionCounters& c = session->counters();
-      if (result == ViewerLink::OfferResult::kCoalesced)
-        c.viewers.frames_coalesced.fetch_add(1, std::memory_order_relaxed);
-      if (result == ViewerLink::OfferResult::kSent) {
-        c.viewers.frames_sent.fetch_add(1, std::memory_order_relaxed);
-        c.viewers.bytes_sent.fetch_add(link->last_frame_bytes(), std::memory_order_relaxed);
-      }
+  for (const auto& [id, session] : sessions) PumpSession(session, now_ns);
+  EndStreamsOfClosedSessions(sessions);
+}
+
+void ViewerHub::PumpSession(const std::shared_ptr<Session>& session, std::int64_t now_ns) {
+  std::shared_ptr<const SceneSnapshot> fresh;
+  const bool is_new = session->TakeSnapshot(&fresh);
+  std::shared_ptr<const SceneSnapshot> latest;
+  std::shared_ptr<const Links> links;
+  std::shared_ptr<TopologyHistory> history;
+  {
+    std::lock_guard lock(mutex_);
+    Entry& e = EntryLocked(session);
+    if (is_new) e.latest = std::move(fresh);
+    latest = e.latest;
+    links = e.links;
+    history = e.history;
+  }
+  if (!latest) return;
+  if (is_new) {
+    history->Absorb(*latest);
+    session->MarkTopologyTaken(history->End());
+  }
+  OfferToLinks(*session, latest, *links, *history, now_ns);  // outside the lock: may run a reaction inline
+}
+
+void ViewerHub::OfferToLinks(Session& session, const std::shared_ptr<const SceneSnapshot>& latest, const Links& links,
+                             const TopologyHistory& history, std::int64_t now_ns) {
+  for (const auto& link : links) {
+    const ViewerLink::OfferResult result = link->Offer(latest, history, now_ns);
+    SessionCounters& c = session.counters();
+    if (result == ViewerLink::OfferResult::kCoalesced)
+      c.viewers.frames_coalesced.fetch_add(1, std::memory_order_relaxed);
+    if (result == ViewerLink::OfferResult::kSent) {
+      c.viewers.frames_sent.fetch_add(1, std::memory_order_relaxed);
+      c.viewers.bytes_sent.fetch_add(link->last_frame_bytes(), std::memory_order_relaxed);
     }
   }
-  // Sessions closed since their stream joined (Add after the close): end
-  // those streams now and forget the session.
+}
+
+// Sessions closed since their stream joined (Add after the close): end
+// those streams now and forget the session.
+void ViewerHub::EndStreamsOfClosedSessions(const SessionTable& sessions) {
   std::vector<Entry> gone;
   {
     std::lock_guard lock(mutex_);

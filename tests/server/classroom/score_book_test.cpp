@@ -28,12 +28,11 @@ TEST(ScoreBook, ANewExpertBeyondTheLimitIsRefusedButEveryKeptExpertMayRescore) {
   }
   EXPECT_EQ(SubmitError(book, "s", "one-too-many"), ErrorCode::kResourceExhausted);
   EXPECT_NO_THROW(book.Submit("s", "tissue_block", "expert0", {9, 9, 9, 9, 9, 9, 9}));  // replacing is not growing
-  hapsim::v1::ScoreReport report;
-  book.Report("s", &report);
-  ASSERT_EQ(report.sessions_size(), 1);
-  EXPECT_EQ(report.sessions(0).experts(), ScoreBook::kMaxExpertsPerSession);
+  const ScoreReport report = book.Report("s");
+  ASSERT_EQ(report.sessions.size(), 1u);
+  EXPECT_EQ(report.sessions[0].experts, ScoreBook::kMaxExpertsPerSession);
   // Mean of indicator 0 over 32 experts: one 9, thirty-one 5s.
-  EXPECT_NEAR(report.sessions(0).mean_indicators(0), (9.0 + 31 * 5.0) / 32.0, 1e-12);
+  EXPECT_NEAR(report.sessions[0].mean_indicators[0], (9.0 + 31 * 5.0) / 32.0, 1e-12);
 }
 
 TEST(ScoreBook, ANewSessionBeyondTheLimitIsRefusedButKeptSessionsStillTakeSheets) {
@@ -45,9 +44,8 @@ TEST(ScoreBook, ANewSessionBeyondTheLimitIsRefusedButKeptSessionsStillTakeSheets
   }
   EXPECT_EQ(SubmitError(book, "one-too-many", "e"), ErrorCode::kResourceExhausted);
   EXPECT_NO_THROW(book.Submit("s0", "tissue_block", "another-expert", kSheet));
-  hapsim::v1::ScoreReport report;
-  book.Report("", &report);
-  EXPECT_EQ(report.sessions_size(), static_cast<int>(ScoreBook::kMaxScoredSessions));
+  const ScoreReport report = book.Report("");
+  EXPECT_EQ(report.sessions.size(), ScoreBook::kMaxScoredSessions);
 }
 
 // The acupuncture paper's samples are one system's raters: two raters of one
@@ -59,23 +57,21 @@ TEST(ScoreBook, ATraineesScoreDependsOnTheirOwnRatersOnly) {
   ScoreBook book;
   book.Submit("alice", "acupuncture", "dr-a", {8, 6, 7, 9, 5, 8, 7});
   book.Submit("alice", "acupuncture", "dr-b", {6, 6, 9, 9, 7, 8, 5});
-  hapsim::v1::ScoreReport alone;
-  book.Report("alice", &alone);
-  ASSERT_EQ(alone.sessions_size(), 1);
-  EXPECT_NEAR(alone.sessions(0).comprehensive_score(), 6.790, 1e-12);
-  EXPECT_NEAR(alone.combined_weights(0), 0.218, 1e-12);
-  EXPECT_NEAR(alone.objective_weights(1), 0.0, 1e-12);
-  EXPECT_EQ(alone.sessions(0).scheme(), "delphi_msd");
+  const ScoreReport alone = book.Report("alice");
+  ASSERT_EQ(alone.sessions.size(), 1u);
+  EXPECT_NEAR(alone.sessions[0].comprehensive_score, 6.790, 1e-12);
+  EXPECT_NEAR(alone.combined_weights[0], 0.218, 1e-12);
+  EXPECT_NEAR(alone.objective_weights[1], 0.0, 1e-12);
+  EXPECT_EQ(alone.sessions[0].scheme, "delphi_msd");
 
   book.Submit("bob", "acupuncture", "dr-a", {0, 10, 0, 10, 0, 10, 0});
   book.Submit("bob", "acupuncture", "dr-b", {10, 0, 10, 0, 10, 0, 10});
-  hapsim::v1::ScoreReport with_bob;
-  book.Report("alice", &with_bob);
-  EXPECT_EQ(with_bob.sessions(0).comprehensive_score(), alone.sessions(0).comprehensive_score());
-  hapsim::v1::ScoreReport cls;
-  book.Report("", &cls, [](const std::string& id) { return id == "alice"; });  // what a viewer of alice may see
-  ASSERT_EQ(cls.sessions_size(), 1);
-  EXPECT_EQ(cls.sessions(0).session_id(), "alice");
+  const ScoreReport with_bob = book.Report("alice");
+  EXPECT_EQ(with_bob.sessions[0].comprehensive_score, alone.sessions[0].comprehensive_score);
+  // What a viewer of alice may see.
+  const ScoreReport cls = book.Report("", [](const std::string& id) { return id == "alice"; });
+  ASSERT_EQ(cls.sessions.size(), 1u);
+  EXPECT_EQ(cls.sessions[0].session_id, "alice");
 }
 
 // Cutting sessions use the cutting paper's fixed Delphi weights: two
@@ -85,11 +81,10 @@ TEST(ScoreBook, CuttingSessionsUseTheResidentsWeightedScore) {
   ScoreBook book;
   book.Submit("c", "cutting", "r1", {10, 9, 9, 10, 9, 10, 9});
   book.Submit("c", "cutting", "r2", {10, 9, 9, 10, 9, 10, 9});
-  hapsim::v1::ScoreReport r;
-  book.Report("c", &r);
-  EXPECT_EQ(r.sessions(0).scheme(), "cutting_residents");
-  EXPECT_NEAR(r.sessions(0).comprehensive_score(), 9.43, 0.005);
-  EXPECT_EQ(r.objective_weights_size(), 0);
+  const ScoreReport r = book.Report("c");
+  EXPECT_EQ(r.sessions[0].scheme, "cutting_residents");
+  EXPECT_NEAR(r.sessions[0].comprehensive_score, 9.43, 0.005);
+  EXPECT_EQ(r.objective_weights.size(), 0u);
 }
 
 // Vessel sessions take 9 indicators weighted by the AHP hierarchy; a sheet
@@ -98,14 +93,13 @@ TEST(ScoreBook, VesselSessionsUseAhpWeightsOnNineIndicators) {
   ScoreBook book;
   EXPECT_THROW(book.Submit("v", "vessel", "d", kSheet), ServiceError);  // 7 is not 9
   book.Submit("v", "vessel", "d", {7, 7, 7, 7, 7, 7, 7, 7, 7});
-  hapsim::v1::ScoreReport r;
-  book.Report("v", &r);
-  EXPECT_EQ(r.sessions(0).scheme(), "vessel_ahp");
-  ASSERT_EQ(r.combined_weights_size(), 9);
+  const ScoreReport r = book.Report("v");
+  EXPECT_EQ(r.sessions[0].scheme, "vessel_ahp");
+  ASSERT_EQ(r.combined_weights.size(), 9u);
   double sum = 0.0;
-  for (const double w : r.combined_weights()) sum += w;
+  for (const double w : r.combined_weights) sum += w;
   EXPECT_NEAR(sum, 1.0, 1e-12);
-  EXPECT_NEAR(r.sessions(0).comprehensive_score(), 7.0, 1e-12);
+  EXPECT_NEAR(r.sessions[0].comprehensive_score, 7.0, 1e-12);
 }
 
 // A pushed scenario makes a new trial: sheets of the old scene are dropped.
@@ -114,10 +108,9 @@ TEST(ScoreBook, ANewSceneStartsNewSheets) {
   book.Submit("s", "acupuncture", "d1", kSheet);
   book.Submit("s", "acupuncture", "d2", kSheet);
   book.Submit("s", "cutting", "d1", {9, 9, 9, 9, 9, 9, 9});
-  hapsim::v1::ScoreReport r;
-  book.Report("s", &r);
-  EXPECT_EQ(r.sessions(0).experts(), 1u);
-  EXPECT_NEAR(r.sessions(0).comprehensive_score(), 9.0, 1e-12);
+  const ScoreReport r = book.Report("s");
+  EXPECT_EQ(r.sessions[0].experts, 1u);
+  EXPECT_NEAR(r.sessions[0].comprehensive_score, 9.0, 1e-12);
 }
 
 }  // namespace

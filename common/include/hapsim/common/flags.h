@@ -45,6 +45,10 @@ class Flags {
     bool is_switch = false;
     std::function<bool(const std::string&)> set;  // false: not a valid value
   };
+  Flag* FindFlag(const std::string& name);  // nullptr: no such flag
+  // One "--name", "--name=value" or "--name value" at argv[*i] (arg); a
+  // separate value advances *i. False with *error set on a bad flag or value.
+  bool ParseFlag(const std::string& arg, int argc, char** argv, int* i, std::string* error);
   std::string program_, summary_, synopsis_;
   std::vector<Flag> flags_;
   std::vector<std::string>* positionals_ = nullptr;

@@ -52,6 +52,12 @@ class ForceSafety {
   const SafetyCounters& counters() const { return counters_; }
 
  private:
+  // Apply's stages 1, 2 and 4 (in place) and 3: the watchdog's new state
+  // (counted) and the factor it leaves of the force.
+  void ZeroIfNonFinite(Eigen::Vector3d& f_W_N);
+  void ClampMagnitude(Eigen::Vector3d& f_W_N);
+  double WatchdogScale(double model_age_s);
+  void LimitRise(Eigen::Vector3d& f_W_N, double dt_s);  // against last_W_N_
   void CountEscalation(WatchdogState next);
 
   SafetyConfig config_;

@@ -14,6 +14,7 @@
 #include "hapsim/classroom/access_policy.h"
 #include "hapsim/classroom/score_book.h"
 #include "hapsim/classroom/trial_book.h"
+#include "hapsim/core/scenes/scene.h"
 #include "hapsim/runtime/session_registry.h"
 #include "hapsim/streaming/viewer_hub.h"
 #include "hapsim/v1/session.grpc.pb.h"
@@ -45,6 +46,16 @@ class ClassroomCalls {
   std::optional<Principal> Caller(const grpc::ServerContext* context) const;
   // The sessions of class `name` (nullptr: every session, development mode).
   const std::vector<std::string>* ClassSessions(const std::string& name, std::vector<std::string>* storage) const;
+  // WatchClass's steps: take one of the kMaxWatchStreams places (or say why
+  // not), then write the class's status at rate_hz until the instructor
+  // leaves or the server stops (the caller gives the place back).
+  grpc::Status AdmitWatchStream();
+  void StreamClassStatus(grpc::ServerContext* context, const std::string& class_name,
+                         const std::vector<std::string>* ids, double rate_hz,
+                         grpc::ServerWriterInterface<hapsim::v1::ClassStatus>* writer);
+  // PushScenario to one session: closes it if open and creates it anew with
+  // spec, for the same trainee; describes it in out.
+  void RecreateSession(const std::string& id, const core::SceneSpec& spec, hapsim::v1::PushScenarioResponse* out);
 
   SessionRegistry* registry_;
   const ViewerHub* hub_;

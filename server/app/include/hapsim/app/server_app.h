@@ -61,6 +61,14 @@ class ServerApp {
   void Shutdown();
 
  private:
+  // The constructor's steps, in order: make the parts (DDS, pool, registry,
+  // pump, services), listen for gRPC, serve /metrics, and create the class
+  // config's sessions once everything runs.
+  void AssembleParts(const ServerOptions& options);
+  void StartGrpc(const ServerOptions& options, const std::shared_ptr<grpc::ServerCredentials>& credentials);
+  void StartMetrics(const std::string& listen_address);
+  void CreateClassSessions(const ClassConfig& classes);
+
   std::unique_ptr<TickPool> pool_;  // declared first: destroyed after everything that wakes it
   std::unique_ptr<ServerDds> dds_;
   ViewerHub viewers_;  // before the registry, which tells it of every close

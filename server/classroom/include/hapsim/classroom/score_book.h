@@ -20,14 +20,34 @@
 
 #include <Eigen/Core>
 
-#include "hapsim/v1/session.pb.h"
-
 namespace hapsim::service {
 
 enum class ScoringScheme { kDelphiMsd, kCuttingResidents, kVesselAhp };
 ScoringScheme SchemeForScene(const std::string& scene);
 const char* SchemeName(ScoringScheme scheme);
 std::size_t IndicatorCount(ScoringScheme scheme);  // 7, 7, 9
+
+// One session's score: its experts' mean indicators, the weights applied and
+// the comprehensive score (GetScores carries it as a SessionScore).
+struct SessionScoreSheet {
+  std::string session_id;
+  std::uint32_t experts = 0;
+  std::vector<double> mean_indicators;
+  std::vector<double> objective_weights;  // Delphi + MSD scheme only: from this session's raters
+  std::vector<double> combined_weights;
+  double comprehensive_score = 0.0;
+  std::string scheme;  // SchemeName
+};
+
+// The scores of one session or of all visible ones (GetScores' ScoreReport).
+struct ScoreReport {
+  double mu = 0.0;                         // the Delphi + MSD scheme's subjective share
+  std::vector<double> subjective_weights;  // the Delphi weights
+  std::vector<double> objective_weights;   // one session asked: its own
+  std::vector<double> combined_weights;    // one session asked: its own
+  double class_mean_score = 0.0;
+  std::vector<SessionScoreSheet> sessions;
+};
 
 class ScoreBook {
  public:
@@ -50,8 +70,7 @@ class ScoreBook {
               const std::vector<double>& indicators);
   // session_id empty: every scored session `visible` accepts (all when
   // visible is empty); otherwise just that one (kNotFound if unscored).
-  void Report(const std::string& session_id, hapsim::v1::ScoreReport* out,
-              const std::function<bool(const std::string&)>& visible = {}) const;
+  ScoreReport Report(const std::string& session_id, const std::function<bool(const std::string&)>& visible = {}) const;
   bool Scored(const std::string& session_id) const;  // has at least one sheet
 
   struct Summary {
@@ -65,7 +84,7 @@ class ScoreBook {
     std::string scene;
     std::map<std::string, std::vector<double>> by_expert;
   };
-  void Describe(const std::string& id, const Sheets& sheets, hapsim::v1::SessionScore* out) const;
+  SessionScoreSheet Describe(const std::string& id, const Sheets& sheets) const;
 
   Eigen::VectorXd vessel_weights_;  // global AHP weights (9)
   mutable std::mutex mutex_;

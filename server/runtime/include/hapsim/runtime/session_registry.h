@@ -74,6 +74,12 @@ class SessionRegistry {
   std::shared_ptr<const SessionTable> Table() const { return table_.Load(); }
 
  private:
+  // Create's three steps: reserve the id (brief lock; a generated one if
+  // empty), build the session with no lock held, publish it in the table.
+  std::string Reserve(std::string id, const std::string& owner);
+  std::shared_ptr<Session> Build(const std::string& id, std::string scene, std::string owner,
+                                 std::map<std::string, double> params);
+  void Publish(const std::string& id, const std::shared_ptr<Session>& session);
   void PublishTableLocked();
   void Shut(Session& session, CloseReason why);
   void ReleaseReservation(const std::string& id);  // a build failed

@@ -79,6 +79,11 @@ class TickPool {
     TickTask* task;
   };
   void WorkerLoop();
+  // WorkerLoop's steps, under the mutex: drop the heap's stale entries; run
+  // the due tick at the top (the lock released while it runs) and reschedule it.
+  void DropStaleLocked();
+  void RunTopTick(std::unique_lock<std::mutex>& lock, std::int64_t now_ns);
+  void PopTopLocked();
   void PushLocked(TickTask* task, std::int64_t due_ns);
   bool IsStaleLocked(const Entry& e) const;
 

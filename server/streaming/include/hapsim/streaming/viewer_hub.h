@@ -54,6 +54,12 @@ class ViewerHub final : public SessionListener {
     std::shared_ptr<TopologyHistory> history = std::make_shared<TopologyHistory>();
   };
   Entry& EntryLocked(const std::shared_ptr<Session>& session);
+  // Pump's steps: one session's new snapshot to its streams, then the
+  // streams of sessions no longer in the table ended.
+  void PumpSession(const std::shared_ptr<Session>& session, std::int64_t now_ns);
+  static void OfferToLinks(Session& session, const std::shared_ptr<const SceneSnapshot>& latest, const Links& links,
+                           const TopologyHistory& history, std::int64_t now_ns);
+  void EndStreamsOfClosedSessions(const SessionTable& sessions);
   static void SetViewerCount(Entry& e);
 
   mutable std::mutex mutex_;
