@@ -1,4 +1,4 @@
-"""hapsim.parse_trials_csv on the server's CSV format (server/service/src/trial_book.cpp)."""
+"""hapsim.parse_trials_csv on the server's CSV format (server/classroom/src/trial_book.cpp)."""
 import unittest
 
 import hapsim
