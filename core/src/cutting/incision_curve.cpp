@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace hapsim::core {
 
@@ -36,22 +37,61 @@ bool IncisionCurve::Extend(const Eigen::Vector2d& q) {
 
 namespace {
 // Segment index and local parameter of curve parameter s (clamped).
-std::pair<int, double> Split(double s, int segments) {
+std::pair<int, double> SplitIncisionParameter(double s, int segments) {
   s = std::clamp(s, 0.0, static_cast<double>(segments));
   const int k = std::min(static_cast<int>(s), segments - 1);
   return {k, s - k};
 }
+
+// IncisionCurve::Project's steps for one segment p, in order.
+
+// The best of 17 evenly spaced samples of p: a start for Newton's method
+// near the global minimum.
+double SampledClosestBezierParameter(const BezierControls& p, const Eigen::Vector2d& q) {
+  constexpr int kSamples = 16;
+  double a = 0.0, d2 = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= kSamples; ++i) {
+    const double ai = static_cast<double>(i) / kSamples;
+    const double di = (BezierPoint(p, ai) - q).squaredNorm();
+    if (di < d2) {
+      d2 = di;
+      a = ai;
+    }
+  }
+  return a;
+}
+
+// Four Newton steps on g(a) = (P - q)·P' from a, within [0, 1].
+double RefineClosestBezierParameter(const BezierControls& p, const Eigen::Vector2d& q, double a) {
+  for (int it = 0; it < 4; ++it) {
+    const Eigen::Vector2d r = BezierPoint(p, a) - q;
+    const Eigen::Vector2d d1 = BezierDerivative(p, a);
+    const double b = 1.0 - a;
+    const Eigen::Vector2d d2v = 6.0 * b * (p[2] - 2.0 * p[1] + p[0]) + 6.0 * a * (p[3] - 2.0 * p[2] + p[1]);
+    const double g = r.dot(d1), dg = d1.squaredNorm() + r.dot(d2v);
+    if (!(dg > 0.0)) break;
+    a = std::clamp(a - g / dg, 0.0, 1.0);
+  }
+  return a;
+}
+
+// +1 when r lies to the left of the tangent t, -1 to the right, 0 on it.
+int IncisionSide(const Eigen::Vector2d& t, const Eigen::Vector2d& r) {
+  const double cross = t.x() * r.y() - t.y() * r.x();
+  return cross > 0.0 ? 1 : (cross < 0.0 ? -1 : 0);
+}
+
 }  // namespace
 
 Eigen::Vector2d IncisionCurve::Point(double s) const {
   if (segments_.empty()) return first_;
-  const auto [k, a] = Split(s, Segments());
+  const auto [k, a] = SplitIncisionParameter(s, Segments());
   return BezierPoint(segments_[static_cast<std::size_t>(k)], a);
 }
 
 Eigen::Vector2d IncisionCurve::Tangent(double s) const {
   if (segments_.empty()) return Eigen::Vector2d::UnitX();
-  const auto [k, a] = Split(s, Segments());
+  const auto [k, a] = SplitIncisionParameter(s, Segments());
   const Eigen::Vector2d d = BezierDerivative(segments_[static_cast<std::size_t>(k)], a);
   const double n = d.norm();
   return n > 0.0 ? Eigen::Vector2d(d / n) : Eigen::Vector2d::UnitX();
@@ -69,26 +109,8 @@ IncisionCurve::Projection IncisionCurve::Project(const Eigen::Vector2d& q, int f
   double best_d2 = std::numeric_limits<double>::infinity();
   for (int k = first; k <= last; ++k) {
     const BezierControls& p = segments_[static_cast<std::size_t>(k)];
-    constexpr int kSamples = 16;
-    double a = 0.0, d2 = std::numeric_limits<double>::infinity();
-    for (int i = 0; i <= kSamples; ++i) {
-      const double ai = static_cast<double>(i) / kSamples;
-      const double di = (BezierPoint(p, ai) - q).squaredNorm();
-      if (di < d2) {
-        d2 = di;
-        a = ai;
-      }
-    }
-    for (int it = 0; it < 4; ++it) {  // Newton on g(a) = (P - q)·P'
-      const Eigen::Vector2d r = BezierPoint(p, a) - q;
-      const Eigen::Vector2d d1 = BezierDerivative(p, a);
-      const double b = 1.0 - a;
-      const Eigen::Vector2d d2v = 6.0 * b * (p[2] - 2.0 * p[1] + p[0]) + 6.0 * a * (p[3] - 2.0 * p[2] + p[1]);
-      const double g = r.dot(d1), dg = d1.squaredNorm() + r.dot(d2v);
-      if (!(dg > 0.0)) break;
-      a = std::clamp(a - g / dg, 0.0, 1.0);
-    }
-    d2 = (BezierPoint(p, a) - q).squaredNorm();
+    const double a = RefineClosestBezierParameter(p, q, SampledClosestBezierParameter(p, q));
+    const double d2 = (BezierPoint(p, a) - q).squaredNorm();
     if (d2 < best_d2) {
       best_d2 = d2;
       best.s = k + a;
@@ -96,9 +118,7 @@ IncisionCurve::Projection IncisionCurve::Project(const Eigen::Vector2d& q, int f
   }
   best.point = Point(best.s);
   best.distance_m = std::sqrt(best_d2);
-  const Eigen::Vector2d t = Tangent(best.s), r = q - best.point;
-  const double cross = t.x() * r.y() - t.y() * r.x();
-  best.side = cross > 0.0 ? 1 : (cross < 0.0 ? -1 : 0);
+  best.side = IncisionSide(Tangent(best.s), q - best.point);
   return best;
 }
 

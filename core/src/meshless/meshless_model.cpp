@@ -1,13 +1,15 @@
 #include "hapsim/core/meshless/meshless_model.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/LU>
+#include <string>
+#include <vector>
 
 #include "hapsim/core/spatial/uniform_grid.h"
 
@@ -15,8 +17,7 @@ namespace hapsim::core {
 
 namespace {
 
-
-void CheckDef(const MeshlessDef& d) {
+void CheckMeshlessDef(const MeshlessDef& d) {
   const auto n = static_cast<std::size_t>(d.x0_m.cols());
   if (n == 0) throw std::invalid_argument("meshless: no nodes");
   if (d.mass_kg.size() != n || d.volume_m3.size() != n || (!d.fixed.empty() && d.fixed.size() != n)) {
@@ -56,9 +57,12 @@ double MeshlessKernel(double r_m, double h_m) {
 double LameLambda(double E, double nu) { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
 double LameMu(double E, double nu) { return E / (2.0 * (1.0 + nu)); }
 
-MeshlessModel BuildMeshlessModel(const MeshlessDef& def) {
-  CheckDef(def);
-  MeshlessModel m;
+namespace {
+
+// BuildMeshlessModel's steps, in order.
+
+// Node arrays and the material.
+void CopyMeshlessNodes(const MeshlessDef& def, MeshlessModel& m) {
   m.n = static_cast<std::int32_t>(def.x0_m.cols());
   m.x0_m = def.x0_m;
   m.mass_kg = Eigen::Map<const Eigen::VectorXd>(def.mass_kg.data(), m.n);
@@ -69,8 +73,11 @@ MeshlessModel BuildMeshlessModel(const MeshlessDef& def) {
   m.lambda_Pa = LameLambda(def.youngs_modulus_Pa, def.poisson_ratio);
   m.mu_Pa = LameMu(def.youngs_modulus_Pa, def.poisson_ratio);
   m.damping_per_s = def.damping_per_s;
+}
 
-  // Rest neighbourhoods from a grid with cells one support radius wide.
+// Rest neighbourhoods (m.first, m.neighbour) from a grid with cells one
+// support radius wide.
+void FindMeshlessRestNeighbourhoods(const MeshlessDef& def, MeshlessModel& m) {
   const double h = def.support_radius_m;
   Eigen::AlignedBox3d box(def.x0_m.rowwise().minCoeff(), def.x0_m.rowwise().maxCoeff());
   box.extend(box.max() + Eigen::Vector3d::Constant(h));
@@ -89,8 +96,55 @@ MeshlessModel BuildMeshlessModel(const MeshlessDef& def) {
     m.neighbour.insert(m.neighbour.end(), around.begin(), around.end());
     m.first[static_cast<std::size_t>(i) + 1] = static_cast<std::int32_t>(m.neighbour.size());
   }
+}
 
-  // Moment matrices and the per-pair gradient weights d_ij.
+// Node i's moment matrix A_i = sum_j m_j w_ij x_ij x_ij^T over its rest
+// neighbourhood (entries b to e of m.neighbour).
+Eigen::Matrix3d MeshlessMomentMatrix(const MeshlessDef& def, const MeshlessModel& m, std::int32_t i, std::size_t b,
+                                     std::size_t e) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  for (std::size_t k = b; k < e; ++k) {
+    const std::int32_t j = m.neighbour[k];
+    const Eigen::Vector3d xij = def.x0_m.col(j) - def.x0_m.col(i);
+    A += m.mass_kg[j] * MeshlessKernel(xij.norm(), def.support_radius_m) * xij * xij.transpose();
+  }
+  return A;
+}
+
+// A_i's condition number; a thin neighbourhood (too few or coplanar
+// neighbours) cannot give a gradient, so it is refused here, at build.
+double CheckedMeshlessMomentCondition(const MeshlessDef& def, const Eigen::Matrix3d& A, std::int32_t i,
+                                      std::size_t neighbours) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A, Eigen::EigenvaluesOnly);
+  const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
+  const double condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
+  if (!(condition <= def.max_moment_condition)) {
+    throw std::invalid_argument("meshless: node " + std::to_string(i) + " has " + std::to_string(neighbours) +
+                                " neighbours within the support radius and a moment matrix with condition " +
+                                std::to_string(condition) +
+                                " (needs >= 4 non-coplanar neighbours: raise the support radius)");
+  }
+  return condition;
+}
+
+// Node i's per-pair gradient weights d_ij = A_i^-1 m_j w_ij x_ij, and their
+// negated sum (the weight of x_i itself).
+void StoreMeshlessGradientWeights(const MeshlessDef& def, const Eigen::Matrix3d& A, std::int32_t i, std::size_t b,
+                                  std::size_t e, MeshlessModel& m) {
+  const Eigen::Matrix3d A_inv = A.inverse();
+  Eigen::Vector3d self = Eigen::Vector3d::Zero();
+  for (std::size_t k = b; k < e; ++k) {
+    const std::int32_t j = m.neighbour[k];
+    const Eigen::Vector3d xij = def.x0_m.col(j) - def.x0_m.col(i);
+    const Eigen::Vector3d d = A_inv * (m.mass_kg[j] * MeshlessKernel(xij.norm(), def.support_radius_m) * xij);
+    m.gradient_weight.col(static_cast<Eigen::Index>(k)) = d;
+    self -= d;
+  }
+  m.gradient_self.col(i) = self;
+}
+
+// Moment matrices and the per-pair gradient weights d_ij.
+void ComputeMeshlessGradientWeights(const MeshlessDef& def, MeshlessModel& m) {
   m.gradient_weight.resize(3, static_cast<Eigen::Index>(m.neighbour.size()));
   m.gradient_self.resize(3, m.n);
   m.fewest_neighbours = std::numeric_limits<std::int32_t>::max();
@@ -98,33 +152,21 @@ MeshlessModel BuildMeshlessModel(const MeshlessDef& def) {
     const auto b = static_cast<std::size_t>(m.first[static_cast<std::size_t>(i)]);
     const auto e = static_cast<std::size_t>(m.first[static_cast<std::size_t>(i) + 1]);
     m.fewest_neighbours = std::min(m.fewest_neighbours, static_cast<std::int32_t>(e - b));
-    Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
-    for (std::size_t k = b; k < e; ++k) {
-      const std::int32_t j = m.neighbour[k];
-      const Eigen::Vector3d xij = def.x0_m.col(j) - def.x0_m.col(i);
-      A += m.mass_kg[j] * MeshlessKernel(xij.norm(), h) * xij * xij.transpose();
-    }
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A, Eigen::EigenvaluesOnly);
-    const double lo = eig.eigenvalues().minCoeff(), hi = eig.eigenvalues().maxCoeff();
-    const double condition = lo > 0.0 ? hi / lo : std::numeric_limits<double>::infinity();
-    if (!(condition <= def.max_moment_condition)) {
-      throw std::invalid_argument("meshless: node " + std::to_string(i) + " has " + std::to_string(e - b) +
-                                  " neighbours within the support radius and a moment matrix with condition " +
-                                  std::to_string(condition) +
-                                  " (needs >= 4 non-coplanar neighbours: raise the support radius)");
-    }
+    const Eigen::Matrix3d A = MeshlessMomentMatrix(def, m, i, b, e);
+    const double condition = CheckedMeshlessMomentCondition(def, A, i, e - b);
     m.worst_moment_condition = std::max(m.worst_moment_condition, condition);
-    const Eigen::Matrix3d A_inv = A.inverse();
-    Eigen::Vector3d self = Eigen::Vector3d::Zero();
-    for (std::size_t k = b; k < e; ++k) {
-      const std::int32_t j = m.neighbour[k];
-      const Eigen::Vector3d xij = def.x0_m.col(j) - def.x0_m.col(i);
-      const Eigen::Vector3d d = A_inv * (m.mass_kg[j] * MeshlessKernel(xij.norm(), h) * xij);
-      m.gradient_weight.col(static_cast<Eigen::Index>(k)) = d;
-      self -= d;
-    }
-    m.gradient_self.col(i) = self;
+    StoreMeshlessGradientWeights(def, A, i, b, e, m);
   }
+}
+
+}  // namespace
+
+MeshlessModel BuildMeshlessModel(const MeshlessDef& def) {
+  CheckMeshlessDef(def);
+  MeshlessModel m;
+  CopyMeshlessNodes(def, m);
+  FindMeshlessRestNeighbourhoods(def, m);
+  ComputeMeshlessGradientWeights(def, m);
   return m;
 }
 

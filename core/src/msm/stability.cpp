@@ -1,29 +1,43 @@
 #include "hapsim/core/msm/stability.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <vector>
-
-#include <Eigen/Eigenvalues>
 
 #include "hapsim/core/msm/particle_steppers.h"
 
 namespace hapsim::core {
 
-ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c) {
-  const auto n = static_cast<std::size_t>(m.num_nodes);
-  // Block Gershgorin (Feingold-Varga) on M^-1/2 K M^-1/2: every eigenvalue
-  // is <= max_i [ lambda_max(K_ii)/m_i + sum_j |K_ij|/sqrt(m_i m_j) ], and a
-  // spring's 3x3 block near rest has norm <= k. Scaled by m_i per row below.
-  std::vector<double> k_row(n, extra_k), c_row(n, 0.0);
+namespace {
+
+// Block Gershgorin (Feingold-Varga) on M^-1/2 K M^-1/2: every eigenvalue
+// is <= max_i [ lambda_max(K_ii)/m_i + sum_j |K_ij|/sqrt(m_i m_j) ], and a
+// spring's 3x3 block near rest has norm <= k. The rows are kept scaled by
+// m_i (divided at the end), per node.
+struct MsmGershgorinRows {
+  std::vector<double> k_row, c_row;
   // Absolute dampers (node and anchor) damp every mode; spring dampers only
   // relative motion, so only the absolute ones give a lower bound.
-  std::vector<double> c_absolute(n, 0.0);
+  std::vector<double> c_absolute;
+};
+
+// EstimateModeBounds's steps, in order.
+
+// The extra stiffness and damping every node may carry, and node damping.
+MsmGershgorinRows StartMsmGershgorinRows(const MsmModel& m, double extra_k, double extra_c) {
+  const auto n = static_cast<std::size_t>(m.num_nodes);
+  MsmGershgorinRows rows{std::vector<double>(n, extra_k), std::vector<double>(n, 0.0), std::vector<double>(n, 0.0)};
   for (std::size_t i = 0; i < n; ++i) {
-    c_absolute[i] = m.node_damping_Ns_per_m[static_cast<Eigen::Index>(i)];
-    c_row[i] = extra_c + c_absolute[i];
+    rows.c_absolute[i] = m.node_damping_Ns_per_m[static_cast<Eigen::Index>(i)];
+    rows.c_row[i] = extra_c + rows.c_absolute[i];
   }
+  return rows;
+}
+
+void AddMsmSpringRows(const MsmModel& m, MsmGershgorinRows& rows) {
   for (std::int32_t s = 0; s < m.NumSprings(); ++s) {
     const auto i = static_cast<std::size_t>(m.spring_i[static_cast<std::size_t>(s)]);
     const auto j = static_cast<std::size_t>(m.spring_j[static_cast<std::size_t>(s)]);
@@ -32,28 +46,44 @@ ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c)
     const double k = m.spring_k_N_per_m[static_cast<std::size_t>(s)];
     const double c = m.spring_c_Ns_per_m[static_cast<std::size_t>(s)];
     // row_i / m_i = k/m_i + k/sqrt(m_i m_j).
-    k_row[i] += k * (1.0 + mi * off);
-    k_row[j] += k * (1.0 + mj * off);
-    c_row[i] += c * (1.0 + mi * off);
-    c_row[j] += c * (1.0 + mj * off);
+    rows.k_row[i] += k * (1.0 + mi * off);
+    rows.k_row[j] += k * (1.0 + mj * off);
+    rows.c_row[i] += c * (1.0 + mi * off);
+    rows.c_row[j] += c * (1.0 + mj * off);
   }
+}
+
+void AddMsmAnchorRows(const MsmModel& m, MsmGershgorinRows& rows) {
   for (std::int32_t a = 0; a < m.NumAnchors(); ++a) {
     const auto i = static_cast<std::size_t>(m.anchor_node[static_cast<std::size_t>(a)]);
-    k_row[i] += m.anchor_k_N_per_m[static_cast<std::size_t>(a)];
-    c_row[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
-    c_absolute[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
+    rows.k_row[i] += m.anchor_k_N_per_m[static_cast<std::size_t>(a)];
+    rows.c_row[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
+    rows.c_absolute[i] += m.anchor_c_Ns_per_m[static_cast<std::size_t>(a)];
   }
+}
+
+// The bounds over the free nodes, each row divided by its node's mass.
+ModeBounds MsmModeBoundsFromRows(const MsmModel& m, const MsmGershgorinRows& rows) {
   ModeBounds b;
   b.gamma_min_per_s = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < static_cast<std::size_t>(m.num_nodes); ++i) {
     if (m.fixed[i]) continue;
     const double mi = m.mass_kg[static_cast<Eigen::Index>(i)];
-    b.omega2_max_per_s2 = std::max(b.omega2_max_per_s2, k_row[i] / mi);
-    b.gamma_max_per_s = std::max(b.gamma_max_per_s, c_row[i] / mi);
-    b.gamma_min_per_s = std::min(b.gamma_min_per_s, c_absolute[i] / mi);
+    b.omega2_max_per_s2 = std::max(b.omega2_max_per_s2, rows.k_row[i] / mi);
+    b.gamma_max_per_s = std::max(b.gamma_max_per_s, rows.c_row[i] / mi);
+    b.gamma_min_per_s = std::min(b.gamma_min_per_s, rows.c_absolute[i] / mi);
   }
   if (!std::isfinite(b.gamma_min_per_s)) b.gamma_min_per_s = 0.0;
   return b;
+}
+
+}  // namespace
+
+ModeBounds EstimateModeBounds(const MsmModel& m, double extra_k, double extra_c) {
+  MsmGershgorinRows rows = StartMsmGershgorinRows(m, extra_k, extra_c);
+  AddMsmSpringRows(m, rows);
+  AddMsmAnchorRows(m, rows);
+  return MsmModeBoundsFromRows(m, rows);
 }
 
 double AmplificationRadius(IntegratorChoice method, double omega2, double gamma, double h) {

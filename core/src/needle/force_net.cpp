@@ -1,22 +1,22 @@
 #include "hapsim/core/needle/force_net.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
-#include <Eigen/Geometry>
-
-#include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/msm/msm_forces.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"
+#include "hapsim/core/msm/msm_step.h"
 
 namespace hapsim::core {
 
 namespace {
 
-void Require(bool ok, const std::string& what) {
+void RequireForceNet(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("force net: " + what);
 }
 
@@ -86,6 +86,63 @@ struct NetSolver {
 constexpr double kStaticTolerance_N = 1e-9;
 constexpr int kMaxNewtonSteps = 60;
 
+// BuildForceNet's steps, in order.
+
+void CheckForceNetDef(const ForceNetDef& def) {
+  RequireForceNet(def.rings_w >= 2 && def.rings_w <= 40, "rings w must be in [2, 40]");
+  RequireForceNet(def.spacing_L_m > 0.0 && def.spacing_L_m < 0.05, "spring length L must be in (0, 0.05) m");
+  RequireForceNet(def.virtual_K_N_per_m > 0.0 && std::isfinite(def.virtual_K_N_per_m), "virtual spring K must be > 0");
+  RequireForceNet(def.surface_ratio > 0.0 && def.surface_ratio <= 1e3, "surface_ratio must be in (0, 1e3]");
+  RequireForceNet(def.prestretch >= 0.0 && def.prestretch <= 1.0, "prestretch must be in [0, 1]");
+  RequireForceNet(def.puncture_force_N > 0.0 && std::isfinite(def.puncture_force_N), "puncture force must be > 0");
+  RequireForceNet(def.table_step_m > 0.0 && def.table_max_depth_m >= 2.0 * def.table_step_m &&
+                      def.table_max_depth_m / def.table_step_m <= 4000.0,
+                  "table step and depth: 2 to 4000 steps");
+}
+
+// Lateral influence: N1 moved a micrometre along t1 from rest.
+void MeasureForceNetLateralInfluence(ForceNetModel& m) {
+  const double K = m.def.virtual_K_N_per_m;
+  NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
+  constexpr double kLateral_m = 1e-6;
+  net.state.x_m(0, 0) += kLateral_m;
+  m.static_residual_N = net.Relax(kStaticTolerance_N * 1e-3, kMaxNewtonSteps, &m.newton_steps);
+  m.lateral_influence = (net.state.x_m.row(0) - net.model.x0_m.row(0)).transpose() / kLateral_m;
+  m.lateral_influence[0] = 1.0;
+  m.lateral_stiffness_N_per_m = K * m.lateral_influence.sum();
+}
+
+// The depth table, each depth warm-started from the last, until the
+// puncture force is passed by a fifth (the tip never goes deeper).
+void TabulateForceNetDepths(ForceNetModel& m) {
+  const ForceNetDef& def = m.def;
+  const double K = def.virtual_K_N_per_m;
+  NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
+  for (int k = 0;; ++k) {
+    const double depth_m = k * def.table_step_m;
+    net.state.x_m(2, 0) = -depth_m;
+    m.static_residual_N = std::max(m.static_residual_N, net.Relax(kStaticTolerance_N, kMaxNewtonSteps, &m.newton_steps));
+    m.displacement_T_m.push_back(net.state.x_m - net.model.x0_m);
+    m.force_N.push_back(-K * m.displacement_T_m.back().row(2).sum());
+    if (k >= 2 && m.force_N.back() >= 1.2 * def.puncture_force_N) break;
+    RequireForceNet(depth_m + def.table_step_m <= def.table_max_depth_m + 1e-12,
+                    "the puncture force " + std::to_string(def.puncture_force_N) + " N is not reached within " +
+                        std::to_string(def.table_max_depth_m) + " m of indentation (at most " +
+                        std::to_string(m.force_N.back()) + " N)");
+  }
+}
+
+// Where the table first reaches the puncture force, linear between depths.
+void InterpolateForceNetPunctureDepth(ForceNetModel& m) {
+  const ForceNetDef& def = m.def;
+  for (std::size_t k = 1; k < m.force_N.size(); ++k) {
+    if (m.force_N[k] < def.puncture_force_N) continue;
+    const double f = (def.puncture_force_N - m.force_N[k - 1]) / (m.force_N[k] - m.force_N[k - 1]);
+    m.puncture_depth_m = (static_cast<double>(k - 1) + f) * def.table_step_m;
+    break;
+  }
+}
+
 }  // namespace
 
 ForceNetDef ForceNetDefFor(const TissueLayer& layer) {
@@ -99,62 +156,24 @@ ForceNetDef ForceNetDefFor(const TissueLayer& layer) {
 }
 
 ForceNetModel BuildForceNet(const ForceNetDef& def) {
-  Require(def.rings_w >= 2 && def.rings_w <= 40, "rings w must be in [2, 40]");
-  Require(def.spacing_L_m > 0.0 && def.spacing_L_m < 0.05, "spring length L must be in (0, 0.05) m");
-  Require(def.virtual_K_N_per_m > 0.0 && std::isfinite(def.virtual_K_N_per_m), "virtual spring K must be > 0");
-  Require(def.surface_ratio > 0.0 && def.surface_ratio <= 1e3, "surface_ratio must be in (0, 1e3]");
-  Require(def.prestretch >= 0.0 && def.prestretch <= 1.0, "prestretch must be in [0, 1]");
-  Require(def.puncture_force_N > 0.0 && std::isfinite(def.puncture_force_N), "puncture force must be > 0");
-  Require(def.table_step_m > 0.0 && def.table_max_depth_m >= 2.0 * def.table_step_m &&
-              def.table_max_depth_m / def.table_step_m <= 4000.0,
-          "table step and depth: 2 to 4000 steps");
+  CheckForceNetDef(def);
   ForceNetModel m;
   m.def = def;
   m.topology = MakeHexNetTopology(def.rings_w, def.spacing_L_m);
   m.surface_k_N_per_m = def.surface_ratio * def.virtual_K_N_per_m;
   m.surface_rest_m = def.spacing_L_m / (1.0 + def.prestretch);
-  const double K = def.virtual_K_N_per_m;
-
-  // Lateral influence: N1 moved a micrometre along t1 from rest.
-  {
-    NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
-    constexpr double kLateral_m = 1e-6;
-    net.state.x_m(0, 0) += kLateral_m;
-    m.static_residual_N = net.Relax(kStaticTolerance_N * 1e-3, kMaxNewtonSteps, &m.newton_steps);
-    m.lateral_influence = (net.state.x_m.row(0) - net.model.x0_m.row(0)).transpose() / kLateral_m;
-    m.lateral_influence[0] = 1.0;
-    m.lateral_stiffness_N_per_m = K * m.lateral_influence.sum();
-  }
-  // The depth table, each depth warm-started from the last, until the
-  // puncture force is passed by a fifth (the tip never goes deeper).
-  NetSolver net(m.topology, K, m.surface_k_N_per_m, m.surface_rest_m);
-  for (int k = 0;; ++k) {
-    const double depth_m = k * def.table_step_m;
-    net.state.x_m(2, 0) = -depth_m;
-    m.static_residual_N = std::max(m.static_residual_N, net.Relax(kStaticTolerance_N, kMaxNewtonSteps, &m.newton_steps));
-    m.displacement_T_m.push_back(net.state.x_m - net.model.x0_m);
-    m.force_N.push_back(-K * m.displacement_T_m.back().row(2).sum());
-    if (k >= 2 && m.force_N.back() >= 1.2 * def.puncture_force_N) break;
-    Require(depth_m + def.table_step_m <= def.table_max_depth_m + 1e-12,
-            "the puncture force " + std::to_string(def.puncture_force_N) + " N is not reached within " +
-                std::to_string(def.table_max_depth_m) + " m of indentation (at most " +
-                std::to_string(m.force_N.back()) + " N)");
-  }
-  Require(m.static_residual_N < 1e-6, "the static solve did not converge (residual " +
-                                          std::to_string(m.static_residual_N) + " N)");
-  for (std::size_t k = 1; k < m.force_N.size(); ++k) {
-    if (m.force_N[k] < def.puncture_force_N) continue;
-    const double f = (def.puncture_force_N - m.force_N[k - 1]) / (m.force_N[k] - m.force_N[k - 1]);
-    m.puncture_depth_m = (static_cast<double>(k - 1) + f) * def.table_step_m;
-    break;
-  }
+  MeasureForceNetLateralInfluence(m);
+  TabulateForceNetDepths(m);
+  RequireForceNet(m.static_residual_N < 1e-6,
+                  "the static solve did not converge (residual " + std::to_string(m.static_residual_N) + " N)");
+  InterpolateForceNetPunctureDepth(m);
   return m;
 }
 
 namespace {
 
 // Table segment and fraction for a depth (clamped to the table).
-std::pair<std::size_t, double> TableAt(const ForceNetModel& m, double depth_m) {
+std::pair<std::size_t, double> ForceNetTableAt(const ForceNetModel& m, double depth_m) {
   const double last = static_cast<double>(m.force_N.size() - 1);
   const double u = std::clamp(depth_m / m.def.table_step_m, 0.0, last);
   const auto k = static_cast<std::size_t>(std::min(std::floor(u), last - 1.0));
@@ -164,12 +183,12 @@ std::pair<std::size_t, double> TableAt(const ForceNetModel& m, double depth_m) {
 }  // namespace
 
 double NetForceAtDepth_N(const ForceNetModel& m, double depth_m) {
-  const auto [k, f] = TableAt(m, depth_m);
+  const auto [k, f] = ForceNetTableAt(m, depth_m);
   return (1.0 - f) * m.force_N[k] + f * m.force_N[k + 1];
 }
 
 double NetStiffnessAtDepth_N_per_m(const ForceNetModel& m, double depth_m) {
-  const auto [k, f] = TableAt(m, depth_m);
+  const auto [k, f] = ForceNetTableAt(m, depth_m);
   return (m.force_N[k + 1] - m.force_N[k]) / m.def.table_step_m;
 }
 
@@ -201,7 +220,7 @@ void SolveForceNet(const ForceNetModel& model, const Eigen::Vector3d& n1_now_W_m
   const double along_n = u1.dot(s.normal_W);
   const Eigen::Vector3d lateral = u1 - along_n * s.normal_W;
   s.depth_m = std::max(0.0, -along_n);
-  const auto [k, f] = TableAt(model, s.depth_m);
+  const auto [k, f] = ForceNetTableAt(model, s.depth_m);
   const Eigen::Matrix3Xd& a = model.displacement_T_m[k];
   const Eigen::Matrix3Xd& b = model.displacement_T_m[k + 1];
   for (Eigen::Index i = 0; i < s.x_W_m.cols(); ++i) {

@@ -2,12 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
 namespace hapsim::core {
 
-XpbdModel BuildXpbdModel(const XpbdDef& def) {
+namespace {
+
+// BuildXpbdModel's steps, in order (the first bad field is the one reported).
+
+void CheckXpbdDef(const XpbdDef& def) {
   const auto n = static_cast<std::size_t>(def.x0_m.cols());
   if (n == 0) throw std::invalid_argument("xpbd: no nodes");
   if (def.mass_kg.size() != n || (!def.fixed.empty() && def.fixed.size() != n)) {
@@ -23,20 +28,26 @@ XpbdModel BuildXpbdModel(const XpbdDef& def) {
   if (!(def.plain_pbd_stiffness >= 0.0 && def.plain_pbd_stiffness <= 1.0)) {
     throw std::invalid_argument("xpbd: plain PBD stiffness must be in [0, 1]");
   }
-  XpbdModel m;
-  m.n = static_cast<std::int32_t>(n);
-  m.x0_m = def.x0_m;
-  m.inv_mass_per_kg.resize(m.n);
+}
+
+// 1 / mass per node, 0 for a fixed node.
+Eigen::VectorXd XpbdInverseMasses(const XpbdDef& def) {
+  const auto n = static_cast<std::size_t>(def.x0_m.cols());
+  Eigen::VectorXd inv_mass_per_kg(static_cast<Eigen::Index>(n));
   for (std::size_t i = 0; i < n; ++i) {
     if (!(def.mass_kg[i] > 0.0) || !std::isfinite(def.mass_kg[i])) {
       throw std::invalid_argument("xpbd: node " + std::to_string(i) + " needs a positive mass");
     }
     const bool held = !def.fixed.empty() && def.fixed[i];
-    m.inv_mass_per_kg[static_cast<Eigen::Index>(i)] = held ? 0.0 : 1.0 / def.mass_kg[i];
+    inv_mass_per_kg[static_cast<Eigen::Index>(i)] = held ? 0.0 : 1.0 / def.mass_kg[i];
   }
+  return inv_mass_per_kg;
+}
+
+void CheckXpbdDistanceConstraints(const XpbdDef& def, std::int32_t n) {
   for (std::size_t c = 0; c < def.distance.size(); ++c) {
     const auto& d = def.distance[c];
-    if (d.i < 0 || d.j < 0 || d.i >= m.n || d.j >= m.n || d.i == d.j) {
+    if (d.i < 0 || d.j < 0 || d.i >= n || d.j >= n || d.i == d.j) {
       throw std::invalid_argument("xpbd: distance constraint " + std::to_string(c) + " names a missing node");
     }
     if (!(d.rest_m >= 0.0) || !(d.compliance_m_per_N >= 0.0) || !std::isfinite(d.rest_m) ||
@@ -45,6 +56,17 @@ XpbdModel BuildXpbdModel(const XpbdDef& def) {
                                   " needs a finite rest length and compliance >= 0");
     }
   }
+}
+
+}  // namespace
+
+XpbdModel BuildXpbdModel(const XpbdDef& def) {
+  CheckXpbdDef(def);
+  XpbdModel m;
+  m.n = static_cast<std::int32_t>(def.x0_m.cols());
+  m.x0_m = def.x0_m;
+  m.inv_mass_per_kg = XpbdInverseMasses(def);
+  CheckXpbdDistanceConstraints(def, m.n);
   m.distance = def.distance;
   m.gravity_W_m_per_s2 = def.gravity_W_m_per_s2;
   m.iterations = def.iterations;

@@ -2,19 +2,23 @@
 
 #include <Eigen/SVD>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "hapsim/core/math/portable_math.h"
 
 namespace hapsim::core {
 
-ShFitResult FitShSurface(int lmax, const Eigen::Matrix2Xd& theta_phi_rad, const Eigen::Matrix3Xd& points_m,
-                         double max_condition_number) {
-  const RealShBasis basis(lmax);
+namespace {
+
+// FitShSurface's steps, in order.
+
+void CheckShFitSamples(int lmax, Eigen::Index k, const Eigen::Matrix2Xd& theta_phi_rad,
+                       const Eigen::Matrix3Xd& points_m) {
   const Eigen::Index n = points_m.cols();
-  const Eigen::Index k = basis.Size();
   if (theta_phi_rad.cols() != n) {
     throw std::invalid_argument("FitShSurface: " + std::to_string(theta_phi_rad.cols()) +
                                 " parameter pairs for " + std::to_string(n) + " points");
@@ -27,15 +31,26 @@ ShFitResult FitShSurface(int lmax, const Eigen::Matrix2Xd& theta_phi_rad, const 
   }
   if (!points_m.allFinite() || !theta_phi_rad.allFinite())
     throw std::invalid_argument("FitShSurface: samples contain NaN or infinity");
+}
 
-  Eigen::MatrixXd y(n, k);
-  Eigen::VectorXd row(k);
+// Y: one row of basis values per sample (n x k).
+Eigen::MatrixXd ShDesignMatrix(const RealShBasis& basis, const Eigen::Matrix2Xd& theta_phi_rad) {
+  const Eigen::Index n = theta_phi_rad.cols();
+  Eigen::MatrixXd y(n, basis.Size());
+  Eigen::VectorXd row(basis.Size());
   for (Eigen::Index i = 0; i < n; ++i) {
     basis.Evaluate(theta_phi_rad(0, i), theta_phi_rad(1, i), row);
     y.row(i) = row.transpose();
   }
-  const Eigen::BDCSVD<Eigen::MatrixXd> svd(y, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  return y;
+}
+
+// Y's condition number; samples too sparse to pin the coefficients are
+// refused rather than fitted.
+double CheckedShFitCondition(const Eigen::BDCSVD<Eigen::MatrixXd>& svd, int lmax, Eigen::Index n,
+                             double max_condition_number) {
   const Eigen::VectorXd& s = svd.singularValues();
+  const Eigen::Index k = s.size();
   const double cond = s(k - 1) > 0.0 ? s(0) / s(k - 1) : std::numeric_limits<double>::infinity();
   if (!(cond <= max_condition_number)) {
     std::ostringstream msg;
@@ -44,14 +59,30 @@ ShFitResult FitShSurface(int lmax, const Eigen::Matrix2Xd& theta_phi_rad, const 
         << " samples: they do not cover the sphere densely enough; add samples or lower Lmax";
     throw std::invalid_argument(msg.str());
   }
-  ShFitResult out;
-  out.surface.lmax = lmax;
-  out.surface.coeffs_m = svd.solve(points_m.transpose());
-  out.condition_number = cond;
+  return cond;
+}
+
+// RMS and largest distance from each sample to the fitted surface.
+void MeasureShFitResidual(const Eigen::MatrixXd& y, const Eigen::Matrix3Xd& points_m, ShFitResult& out) {
   const Eigen::MatrixX3d residual = y * out.surface.coeffs_m - points_m.transpose();
   const Eigen::VectorXd dist = residual.rowwise().norm();
-  out.rms_residual_m = std::sqrt(dist.squaredNorm() / static_cast<double>(n));
+  out.rms_residual_m = std::sqrt(dist.squaredNorm() / static_cast<double>(points_m.cols()));
   out.max_residual_m = dist.maxCoeff();
+}
+
+}  // namespace
+
+ShFitResult FitShSurface(int lmax, const Eigen::Matrix2Xd& theta_phi_rad, const Eigen::Matrix3Xd& points_m,
+                         double max_condition_number) {
+  const RealShBasis basis(lmax);
+  CheckShFitSamples(lmax, basis.Size(), theta_phi_rad, points_m);
+  const Eigen::MatrixXd y = ShDesignMatrix(basis, theta_phi_rad);
+  const Eigen::BDCSVD<Eigen::MatrixXd> svd(y, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  ShFitResult out;
+  out.condition_number = CheckedShFitCondition(svd, lmax, points_m.cols(), max_condition_number);
+  out.surface.lmax = lmax;
+  out.surface.coeffs_m = svd.solve(points_m.transpose());
+  MeasureShFitResidual(y, points_m, out);
   return out;
 }
 

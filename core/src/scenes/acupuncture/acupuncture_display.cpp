@@ -2,6 +2,9 @@
 // nets, and the needle mesh following the tool.
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
 
 #include "hapsim/core/math/portable_math.h"
 #include "hapsim/core/scenes/acupuncture/acupuncture_scene.h"
@@ -12,62 +15,86 @@ namespace {
 constexpr int kNeedleSides = 6;
 constexpr int kNeedleVertices = 1 + 2 * kNeedleSides;
 constexpr double kNeedleTaper_m = 0.6e-3;  // length of the conical point
+
+// BuildDisplay's steps.
+
+// Vertex slots: the three patches (layer by layer), then the needle; parts
+// are the layer names and "needle". Topology never changes.
+MeshTopology MakeAcupunctureTopology(const AcupunctureParams& params, int total_patch) {
+  const int g = params.patch_grid_nodes;
+  std::vector<std::string> part_names;
+  for (const auto& l : params.layers) part_names.push_back(l.name);
+  part_names.push_back("needle");
+  const auto patch_triangles = static_cast<std::uint32_t>(2 * (g - 1) * (g - 1));
+  MeshTopology topology({.vertex_capacity = static_cast<std::uint32_t>(total_patch + kNeedleVertices),
+                         .triangle_capacity = kNumTissueLayers * patch_triangles + 4 * kNeedleSides - 2,
+                         .part_names = part_names,
+                         .log_capacity = 0});
+  for (int v = 0; v < total_patch + kNeedleVertices; ++v) topology.AddVertex();
+  return topology;
+}
+
+// Two triangles per cell of a g x g patch whose slots start at base.
+void AddAcupuncturePatchTriangles(int base, int g, std::uint16_t part, MeshTopology& topology) {
+  for (int iy = 0; iy + 1 < g; ++iy)
+    for (int ix = 0; ix + 1 < g; ++ix) {
+      const auto v00 = static_cast<std::uint32_t>(base + ix + g * iy);
+      const auto v10 = v00 + 1, v01 = v00 + static_cast<std::uint32_t>(g), v11 = v01 + 1;
+      topology.AddTriangle(v00, v10, v11, part);  // outward (+z) winding
+      topology.AddTriangle(v00, v11, v01, part);
+    }
+}
+
+// Needle: point, a ring where the taper ends, a ring at the back, a cap;
+// its slots start at tip.
+void AddAcupunctureNeedleTriangles(std::uint32_t tip, std::uint16_t part, MeshTopology& topology) {
+  for (std::uint32_t k = 0; k < kNeedleSides; ++k) {
+    const std::uint32_t a0 = tip + 1 + k, a1 = tip + 1 + (k + 1) % kNeedleSides;
+    const std::uint32_t b0 = a0 + kNeedleSides, b1 = a1 + kNeedleSides;
+    topology.AddTriangle(tip, a1, a0, part);
+    topology.AddTriangle(a0, a1, b1, part);
+    topology.AddTriangle(a0, b1, b0, part);
+  }
+  for (std::uint32_t k = 1; k + 1 < kNeedleSides; ++k)
+    topology.AddTriangle(tip + 1 + kNeedleSides, tip + 1 + kNeedleSides + k, tip + 2 + kNeedleSides + k, part);
+}
+
 }  // namespace
 
 void AcupunctureScene::BuildDisplay() {
   const int g = params_.patch_grid_nodes;
   patch_vertices_ = g * g;
   const int total_patch = kNumTissueLayers * patch_vertices_;
-  // Vertex slots: the three patches (layer by layer), then the needle; parts
-  // are the layer names and "needle". Topology never changes.
-  std::vector<std::string> part_names;
-  for (const auto& l : params_.layers) part_names.push_back(l.name);
-  part_names.push_back("needle");
-  const auto needle_part = static_cast<std::uint16_t>(kNumTissueLayers);
-  const auto patch_triangles = static_cast<std::uint32_t>(2 * (g - 1) * (g - 1));
-  topology_ = MeshTopology({.vertex_capacity = static_cast<std::uint32_t>(total_patch + kNeedleVertices),
-                            .triangle_capacity = kNumTissueLayers * patch_triangles + 4 * kNeedleSides - 2,
-                            .part_names = part_names,
-                            .log_capacity = 0});
-  for (int v = 0; v < total_patch + kNeedleVertices; ++v) topology_.AddVertex();
+  topology_ = MakeAcupunctureTopology(params_, total_patch);
   patch_rest_W_m_.resize(3, total_patch);
   patch_dir_W_.resize(3, total_patch);
-  const Eigen::Vector3d c = body_.Def().center_W_m;
   for (int layer = 0; layer < kNumTissueLayers; ++layer) {
-    const int base = layer * patch_vertices_;
-    const auto part = static_cast<std::uint16_t>(layer);
-    for (int iy = 0; iy < g; ++iy)
-      for (int ix = 0; ix < g; ++ix) {
-        const double x = params_.patch_size_m * (static_cast<double>(ix) / (g - 1) - 0.5);
-        const double y = params_.patch_size_m * (static_cast<double>(iy) / (g - 1) - 0.5);
-        const Eigen::Vector3d dir = (Eigen::Vector3d(x, y, 0.0) - c).normalized();
-        patch_rest_W_m_.col(base + ix + g * iy) = body_.SurfacePoint_W_m(layer, dir);
-        patch_dir_W_.col(base + ix + g * iy) = dir;
-      }
-    for (int iy = 0; iy + 1 < g; ++iy)
-      for (int ix = 0; ix + 1 < g; ++ix) {
-        const auto v00 = static_cast<std::uint32_t>(base + ix + g * iy);
-        const auto v10 = v00 + 1, v01 = v00 + static_cast<std::uint32_t>(g), v11 = v01 + 1;
-        topology_.AddTriangle(v00, v10, v11, part);  // outward (+z) winding
-        topology_.AddTriangle(v00, v11, v01, part);
-      }
+    PlacePatchVertices(layer);
+    AddAcupuncturePatchTriangles(layer * patch_vertices_, g, static_cast<std::uint16_t>(layer), topology_);
   }
-  // Needle: point, a ring where the taper ends, a ring at the back, a cap.
-  const auto tip = static_cast<std::uint32_t>(total_patch);
-  for (std::uint32_t k = 0; k < kNeedleSides; ++k) {
-    const std::uint32_t a0 = tip + 1 + k, a1 = tip + 1 + (k + 1) % kNeedleSides;
-    const std::uint32_t b0 = a0 + kNeedleSides, b1 = a1 + kNeedleSides;
-    topology_.AddTriangle(tip, a1, a0, needle_part);
-    topology_.AddTriangle(a0, a1, b1, needle_part);
-    topology_.AddTriangle(a0, b1, b0, needle_part);
-  }
-  for (std::uint32_t k = 1; k + 1 < kNeedleSides; ++k)
-    topology_.AddTriangle(tip + 1 + kNeedleSides, tip + 1 + kNeedleSides + k, tip + 2 + kNeedleSides + k, needle_part);
+  AddAcupunctureNeedleTriangles(static_cast<std::uint32_t>(total_patch), static_cast<std::uint16_t>(kNumTissueLayers),
+                                topology_);
   topology_.Seal();
   for (auto& near : patch_near_net_) near.reserve(static_cast<std::size_t>(patch_vertices_));
   for (auto& q : patch_near_q_) q.reserve(static_cast<std::size_t>(patch_vertices_));
   vertices_m_.resize(3, total_patch + kNeedleVertices);
   vertices_m_.leftCols(total_patch) = patch_rest_W_m_;  // the needle is placed by ResetState()
+}
+
+// A layer's patch at rest: a square grid in the xy-plane around the site,
+// projected radially onto the layer's surface.
+void AcupunctureScene::PlacePatchVertices(int layer) {
+  const int g = params_.patch_grid_nodes;
+  const int base = layer * patch_vertices_;
+  const Eigen::Vector3d c = body_.Def().center_W_m;
+  for (int iy = 0; iy < g; ++iy)
+    for (int ix = 0; ix < g; ++ix) {
+      const double x = params_.patch_size_m * (static_cast<double>(ix) / (g - 1) - 0.5);
+      const double y = params_.patch_size_m * (static_cast<double>(iy) / (g - 1) - 0.5);
+      const Eigen::Vector3d dir = (Eigen::Vector3d(x, y, 0.0) - c).normalized();
+      patch_rest_W_m_.col(base + ix + g * iy) = body_.SurfacePoint_W_m(layer, dir);
+      patch_dir_W_.col(base + ix + g * iy) = dir;
+    }
 }
 
 void AcupunctureScene::ShowNet(int layer) {

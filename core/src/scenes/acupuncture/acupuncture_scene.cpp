@@ -23,6 +23,11 @@ ForceNetDef NetDef(const AcupunctureParams& p, const TissueLayer& layer) {
   return d;
 }
 
+bool AcupunctureToolUsable(const ToolInput& tool) {
+  return tool.valid && tool.tip_W_m.allFinite() && tool.orientation_W.coeffs().allFinite() &&
+         tool.orientation_W.norm() > 0.0 && tool.velocity_W_m_per_s.allFinite();
+}
+
 constexpr int kMaxTransitionsPerTick = 8;  // bounds event spam from a pathological pose
 constexpr double kNeedleRestHeight_m = 0.05;  // initial needle: tip this far above the skin, pointing down
 
@@ -111,29 +116,48 @@ std::optional<double> AcupunctureScene::PuncturePointOffset_m(int layer) const {
 
 void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
   if (std::isfinite(dt_s) && dt_s > 0.0) t_s_ += dt_s;
-  const bool tool_ok = tool.valid && tool.tip_W_m.allFinite() && tool.orientation_W.coeffs().allFinite() &&
-                       tool.orientation_W.norm() > 0.0 && tool.velocity_W_m_per_s.allFinite();
-  if (!tool_ok) {
-    // No (usable) tool: the needle is out of the tissue.
-    if (pressing_ || punctured_ > 0) {
-      const Eigen::Vector3d where = tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero();
-      Log(SceneEventKind::kContactEnd, outputs_.status.current_layer, where);
-    }
-    if (pressing_) HideNet(punctured_);  // an unpunctured dimple relaxes
-    pressing_ = false;
-    punctured_ = 0;
-    ClearStepOutputs();
+  if (AcupunctureToolUsable(tool)) {
+    FollowTool(tool);
   } else {
-    const Eigen::Vector3d tip = tool.tip_W_m;
-    const Eigen::Vector3d axis = (tool.orientation_W.normalized() * Eigen::Vector3d(0, 0, -1)).normalized();
-    body_.Depths_m(tip, depth_m_);
-    UpdateInsertion(tip, axis);
-    ComputeForce(tip, tool.velocity_W_m_per_s);
-    ComputeForceModel(tip, tool.velocity_W_m_per_s);
-    outputs_.status.current_layer = pressing_ ? punctured_ : punctured_ - 1;
-    outputs_.status.tip_depth_m = std::max(0.0, depth_m_[0]);
-    UpdateNeedleMesh(tip, axis);
+    LoseTool(tool);
   }
+  AdvanceSpringback();
+  // Blow-up guard: anything non-finite in what we publish resets the scene.
+  if (!PublishedStateFinite()) {
+    NumericalReset();
+    return;
+  }
+  UpdatePatches();
+}
+
+// No (usable) tool: the needle is out of the tissue.
+void AcupunctureScene::LoseTool(const ToolInput& tool) {
+  if (pressing_ || punctured_ > 0) {
+    const Eigen::Vector3d where = tool.tip_W_m.allFinite() ? tool.tip_W_m : Eigen::Vector3d::Zero();
+    Log(SceneEventKind::kContactEnd, outputs_.status.current_layer, where);
+  }
+  if (pressing_) HideNet(punctured_);  // an unpunctured dimple relaxes
+  pressing_ = false;
+  punctured_ = 0;
+  ClearStepOutputs();
+}
+
+// The needle at the tool's pose: the insertion state, the force, its local
+// model, the status and the needle mesh.
+void AcupunctureScene::FollowTool(const ToolInput& tool) {
+  const Eigen::Vector3d tip = tool.tip_W_m;
+  const Eigen::Vector3d axis = (tool.orientation_W.normalized() * Eigen::Vector3d(0, 0, -1)).normalized();
+  body_.Depths_m(tip, depth_m_);
+  UpdateInsertion(tip, axis);
+  ComputeForce(tip, tool.velocity_W_m_per_s);
+  ComputeForceModel(tip, tool.velocity_W_m_per_s);
+  outputs_.status.current_layer = pressing_ ? punctured_ : punctured_ - 1;
+  outputs_.status.tip_depth_m = std::max(0.0, depth_m_[0]);
+  UpdateNeedleMesh(tip, axis);
+}
+
+// One shape-matching step for every net still springing back.
+void AcupunctureScene::AdvanceSpringback() {
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) {
     if (!springing_back_[i]) continue;
     // Once η is 0 everywhere, this step puts every particle on its goal, a
@@ -144,14 +168,12 @@ void AcupunctureScene::Step(const ToolInput& tool, double dt_s) {
     UpdateRingDeflections(nets_[i], net_states_[i]);
     net_moved_[i] = true;
   }
-  // Blow-up guard: anything non-finite in what we publish resets the scene.
+}
+
+bool AcupunctureScene::PublishedStateFinite() const {
   bool finite = outputs_.tool_force_W_N.allFinite();
   for (std::size_t i = 0; i < kNumTissueLayers; ++i) finite = finite && net_states_[i].ring_Z_m.allFinite();
-  if (!finite) {
-    NumericalReset();
-    return;
-  }
-  UpdatePatches();
+  return finite;
 }
 
 void AcupunctureScene::UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis) {
@@ -257,50 +279,68 @@ void AcupunctureScene::ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vec
 void AcupunctureScene::ComputeForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) {
   LocalForceModel m;
   if (punctured_ > 0) {
-    m.state = ContactState::kPunctured;
-    m.anchor_W_m = entry_W_m_;
-    m.normal_W = -entry_axis_W_;  // out of the tissue
-    m.stiffness_N_per_m = params_.tunnel_stiffness_N_per_m;
-    m.damping_Ns_per_m = shaft_damping_Ns_per_m_;
-    if (params_.shaft_friction_law == 1) {
-      m.drag_N = shaft_coulomb_N_;
-      m.stick_W_m = stick_W_m_;
-      m.stick_stiffness_N_per_m = params_.shaft_stick_stiffness_N_per_m;
-    }
-    if (pressing_) {
-      // The tip presses the next layer: its net's tangent stiffness along the
-      // axis (capped as for a first touch), with the surface placed so the
-      // law gives the net's push at this tip; what is across the axis rides
-      // along as feed-forward.
-      const auto i = static_cast<std::size_t>(punctured_);
-      const Eigen::Vector3d push = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
-      const double along_N = std::max(0.0, push.dot(m.normal_W));
-      m.tip_stiffness_N_per_m = std::min(std::max(NetStiffnessAtDepth_N_per_m(nets_[i], net_states_[i].depth_m), 1.0),
-                                         params_.render_stiffness_max_N_per_m);
-      m.tip_anchor_W_m = tip + (along_N / m.tip_stiffness_N_per_m) * m.normal_W;
-      m.feedforward_W_N = push - along_N * m.normal_W;
-    }
+    m = TunnelForceModel(tip);
   } else if (pressing_) {
-    const ForceNetModel& net = nets_[0];
-    const Eigen::Vector3d& n = net_states_[0].normal_W;
-    m.state = ContactState::kContact;
-    m.normal_W = n;
-    // The net's tangent stiffness at this depth (it stiffens as it deepens),
-    // capped at what the device renders stably.
-    m.stiffness_N_per_m = std::min(std::max(NetStiffnessAtDepth_N_per_m(net, net_states_[0].depth_m), 1.0),
-                                   params_.render_stiffness_max_N_per_m);
-    m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
-    const double fn_N = outputs_.tool_force_W_N.dot(n);
-    // Penetration p with k p - b (v·n) = F·n, so the law gives F at this tip.
-    double p_m = (fn_N + m.damping_Ns_per_m * v.dot(n)) / m.stiffness_N_per_m;
-    if (p_m <= 0.0) {  // fast press: the damper alone would exceed F; drop it this tick
-      m.damping_Ns_per_m = 0.0;
-      p_m = std::max(0.0, fn_N) / m.stiffness_N_per_m;
-    }
-    m.anchor_W_m = tip + p_m * n;
-    m.feedforward_W_N = outputs_.tool_force_W_N - std::max(0.0, fn_N) * n;
+    m = SkinPressForceModel(tip, v);
   }
   outputs_.force_model = m;
+}
+
+// A layer's net's tangent stiffness at its depth (it stiffens as it
+// deepens), capped at what the device renders stably.
+double AcupunctureScene::RenderedNetStiffness_N_per_m(std::size_t layer) const {
+  return std::min(std::max(NetStiffnessAtDepth_N_per_m(nets_[layer], net_states_[layer].depth_m), 1.0),
+                  params_.render_stiffness_max_N_per_m);
+}
+
+// After skin puncture: the tunnel (lateral spring to the entry axis), the
+// shaft's damping and friction, and the next layer if the tip presses it.
+LocalForceModel AcupunctureScene::TunnelForceModel(const Eigen::Vector3d& tip) const {
+  LocalForceModel m;
+  m.state = ContactState::kPunctured;
+  m.anchor_W_m = entry_W_m_;
+  m.normal_W = -entry_axis_W_;  // out of the tissue
+  m.stiffness_N_per_m = params_.tunnel_stiffness_N_per_m;
+  m.damping_Ns_per_m = shaft_damping_Ns_per_m_;
+  if (params_.shaft_friction_law == 1) {
+    m.drag_N = shaft_coulomb_N_;
+    m.stick_W_m = stick_W_m_;
+    m.stick_stiffness_N_per_m = params_.shaft_stick_stiffness_N_per_m;
+  }
+  if (pressing_) {
+    // The tip presses the next layer: its net's tangent stiffness along the
+    // axis (capped as for a first touch), with the surface placed so the
+    // law gives the net's push at this tip; what is across the axis rides
+    // along as feed-forward.
+    const auto i = static_cast<std::size_t>(punctured_);
+    const Eigen::Vector3d push = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
+    const double along_N = std::max(0.0, push.dot(m.normal_W));
+    m.tip_stiffness_N_per_m = RenderedNetStiffness_N_per_m(i);
+    m.tip_anchor_W_m = tip + (along_N / m.tip_stiffness_N_per_m) * m.normal_W;
+    m.feedforward_W_N = push - along_N * m.normal_W;
+  }
+  return m;
+}
+
+// Pressing the skin: a contact plane along the net's normal at N1, placed
+// so the law gives this tick's force at this tip.
+LocalForceModel AcupunctureScene::SkinPressForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) const {
+  LocalForceModel m;
+  const Eigen::Vector3d& n = net_states_[0].normal_W;
+  m.state = ContactState::kContact;
+  m.normal_W = n;
+  m.stiffness_N_per_m = RenderedNetStiffness_N_per_m(0);
+  m.damping_Ns_per_m = params_.contact_damping_Ns_per_m;
+  const double fn_N = outputs_.tool_force_W_N.dot(n);
+  // Penetration p with k p - b (v·n) = F·n, so the law gives F at this tip.
+  double p_m = (fn_N + m.damping_Ns_per_m * v.dot(n)) / m.stiffness_N_per_m;
+  if (p_m <= 0.0) {  // fast press: the damper alone would exceed F; drop it this tick
+    m.damping_Ns_per_m = 0.0;
+    p_m = std::max(0.0, fn_N) / m.stiffness_N_per_m;
+  }
+  m.anchor_W_m = tip + p_m * n;
+  m.feedforward_W_N = outputs_.tool_force_W_N - std::max(0.0, fn_N) * n;
+  return m;
 }
 
 std::unique_ptr<Scene> MakeAcupunctureScene(const std::map<std::string, double>& params) {

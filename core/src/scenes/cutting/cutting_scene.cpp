@@ -20,8 +20,13 @@ constexpr int kMaxCommitsPerStep = 4;   // bounds a step's cost if the blade jum
 constexpr double kParkedTipZ_m = 0.05;  // where the blade is drawn while there is no tool
 const IntegratorChoice kIntegrator{IntegratorKind::kSymplecticEuler, 0.5};
 
-bool ToolUsable(const ToolInput& t) {
+bool CuttingToolUsable(const ToolInput& t) {
   return t.valid && t.tip_W_m.allFinite() && t.orientation_W.coeffs().allFinite() && t.velocity_W_m_per_s.allFinite();
+}
+
+void LimitCuttingToolSpeed(ToolInput& tool) {
+  const double speed = tool.velocity_W_m_per_s.norm();
+  if (speed > kMaxToolSpeed_m_per_s) tool.velocity_W_m_per_s *= kMaxToolSpeed_m_per_s / speed;
 }
 
 // The skin patch of these parameters. One material: the lattice is the
@@ -116,7 +121,7 @@ void CuttingScene::CheckStepIsStable(double min_node_mass_kg) const {
 Cylinder CuttingScene::BladeOf(const ToolInput& tool) const {
   Cylinder c;
   c.radius_m = params_.blade_radius_m;
-  if (!ToolUsable(tool)) {
+  if (!CuttingToolUsable(tool)) {
     c.p0_W_m = Eigen::Vector3d(0.0, 0.0, kParkedTipZ_m);
     c.p1_W_m = c.p0_W_m + params_.blade_length_m * Eigen::Vector3d::UnitZ();
     return c;
@@ -138,32 +143,14 @@ void CuttingScene::Step(const ToolInput& tool, double dt_s) {
 
 void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   ToolInput tool = tool_in;
-  const bool usable = ToolUsable(tool);
-  if (usable) {
-    const double speed = tool.velocity_W_m_per_s.norm();
-    if (speed > kMaxToolSpeed_m_per_s) tool.velocity_W_m_per_s *= kMaxToolSpeed_m_per_s / speed;
-  }
+  const bool usable = CuttingToolUsable(tool);
+  if (usable) LimitCuttingToolSpeed(tool);
   const Cylinder blade = BladeOf(tool);
   UpdateBladeMesh(blade);
-  // The tissue underneath holds every node at its rest height; contact adds to it.
-  MsmState& st = skin_.state;
-  // In the plane the skin's own tension, balanced where it lies (hold_N).
-  st.f_ext_N.topRows<2>() = skin_.hold_N.topRows<2>();
-  st.f_ext_N.row(2) = -params_.support_stiffness_N_per_m * (st.x_m.row(2) - skin_.model.x0_m.row(2));
-  loaded_nodes_.clear();
-  colliding_.clear();
-  outputs_.tool_force_W_N.setZero();
-  cut_normal_N_ = 0.0;
+  HoldSkinOnTissue();
+  ClearStepContact();
   if (usable) {
-    if (Bounds(blade).intersects(skin_box_)) {
-      if (rest_grid_version_ != skin_.topology.Version()) {
-        rest_grid_.Build(skin_.model.x0_m, skin_.model.node_live);
-        rest_grid_version_ = skin_.topology.Version();
-      }
-      const Eigen::Index used = std::min<Eigen::Index>(st.x_m.cols(), skin_.topology.Vertices().HighWater());
-      CollideWithShiftedGrid(blade, st.x_m, rest_grid_, MaxDisplacement_m(st.x_m, skin_.model.x0_m, skin_.model.node_live, used),
-                             colliding_);
-    }
+    FindNodesInBlade(blade);
     UpdateCut(tool, blade);
     ApplyContact(tool, blade);
   } else if (cutting_) {
@@ -176,7 +163,7 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
     in_contact_ = contact;
   }
   ApplyResidualStress(skin_, ResidualStress_Pa(), params_.skin_thickness_m);
-  const StepReport r = StepMsm(skin_.model, st, h_s, kIntegrator, workspace_);
+  const StepReport r = StepMsm(skin_.model, skin_.state, h_s, kIntegrator, workspace_);
   if (!r.ok) {
     NumericalReset();
     return;
@@ -184,6 +171,36 @@ void CuttingScene::StepOnce(const ToolInput& tool_in, double h_s) {
   UpdateForceModel(tool);
   outputs_.status.current_layer = contact ? 0 : -1;
   outputs_.status.tip_depth_m = usable ? std::max(0.0, -tool.tip_W_m.z()) : 0.0;
+}
+
+// The tissue underneath holds every node at its rest height (contact adds
+// to it); in the plane, the skin's own tension balanced where it lies (hold_N).
+void CuttingScene::HoldSkinOnTissue() {
+  MsmState& st = skin_.state;
+  st.f_ext_N.topRows<2>() = skin_.hold_N.topRows<2>();
+  st.f_ext_N.row(2) = -params_.support_stiffness_N_per_m * (st.x_m.row(2) - skin_.model.x0_m.row(2));
+}
+
+// No contact yet this step: nothing loaded or colliding, no force on the tool.
+void CuttingScene::ClearStepContact() {
+  loaded_nodes_.clear();
+  colliding_.clear();
+  outputs_.tool_force_W_N.setZero();
+  cut_normal_N_ = 0.0;
+}
+
+// Broad and narrow phase (colliding_): the rest grid, rebuilt after a cut,
+// queried with the largest node displacement.
+void CuttingScene::FindNodesInBlade(const Cylinder& blade) {
+  if (!Bounds(blade).intersects(skin_box_)) return;
+  const MsmState& st = skin_.state;
+  if (rest_grid_version_ != skin_.topology.Version()) {
+    rest_grid_.Build(skin_.model.x0_m, skin_.model.node_live);
+    rest_grid_version_ = skin_.topology.Version();
+  }
+  const Eigen::Index used = std::min<Eigen::Index>(st.x_m.cols(), skin_.topology.Vertices().HighWater());
+  CollideWithShiftedGrid(blade, st.x_m, rest_grid_,
+                         MaxDisplacement_m(st.x_m, skin_.model.x0_m, skin_.model.node_live, used), colliding_);
 }
 
 // Where the blade crosses the skin plane, if it does (tip below, blade not
@@ -333,7 +350,7 @@ Eigen::Vector3d CuttingScene::IntoTissue(std::uint32_t v) const {
 // reactions ride along as feed-forward.
 void CuttingScene::UpdateForceModel(const ToolInput& tool) {
   LocalForceModel m;
-  if (!ToolUsable(tool)) {
+  if (!CuttingToolUsable(tool)) {
     outputs_.force_model = m;
     outputs_.tool_force_W_N.setZero();
     return;

@@ -16,12 +16,11 @@ namespace {
 // conservative near rest, but stretched springs stiffen transversally.
 constexpr double kCriticalStepSafety = 0.9;
 
-}  // namespace
+// MakeTissueGridDef's steps, in order.
 
-MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
+// An n x n grid in the xy-plane centred on the origin, its border fixed.
+void PlaceTissueGridNodes(const TissueBlockParams& p, double spacing_m, MsmDef& d) {
   const int n = p.grid_nodes;
-  const double spacing_m = p.size_m / (n - 1);
-  MsmDef d;
   d.x0_m.resize(3, n * n);
   d.fixed.assign(static_cast<std::size_t>(n * n), 0);
   for (int r = 0; r < n; ++r) {
@@ -33,6 +32,12 @@ MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
   }
   d.mass_kg = Eigen::VectorXd::Constant(n * n, p.node_mass_kg);
   d.node_damping_Ns_per_m = Eigen::VectorXd::Constant(n * n, p.damping_Ns_per_m);
+}
+
+// Structural springs between grid neighbours and shear springs across each
+// cell, shortened by the prestretch.
+void AddTissueGridSprings(const TissueBlockParams& p, double spacing_m, MsmDef& d) {
+  const int n = p.grid_nodes;
   const double shrink = 1.0 / (1.0 + p.prestretch);
   auto add = [&](int i, int j, double k, double length_m) {
     d.springs.push_back({i, j});
@@ -54,7 +59,11 @@ MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
     for (int c = 0; c + 1 < n; ++c) add(r * n + c, (r + 1) * n + c + 1, p.shear_stiffness_N_per_m, diagonal_m);
     for (int c = 0; c + 1 < n; ++c) add(r * n + c + 1, (r + 1) * n + c, p.shear_stiffness_N_per_m, diagonal_m);
   }
-  for (int i = 0; i < n * n; ++i) {
+}
+
+// Every free node anchored to its rest position (the tissue underneath).
+void AnchorTissueGridNodes(const TissueBlockParams& p, MsmDef& d) {
+  for (int i = 0; i < p.grid_nodes * p.grid_nodes; ++i) {
     if (d.fixed[static_cast<std::size_t>(i)]) continue;
     d.anchor_node.push_back(i);
     d.anchor_k_N_per_m.push_back(p.anchor_stiffness_N_per_m);
@@ -62,6 +71,16 @@ MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
   d.anchor_point_W_m.resize(3, static_cast<Eigen::Index>(d.anchor_node.size()));
   for (std::size_t a = 0; a < d.anchor_node.size(); ++a)
     d.anchor_point_W_m.col(static_cast<Eigen::Index>(a)) = d.x0_m.col(d.anchor_node[a]);
+}
+
+}  // namespace
+
+MsmDef MakeTissueGridDef(const TissueBlockParams& p) {
+  const double spacing_m = p.size_m / (p.grid_nodes - 1);
+  MsmDef d;
+  PlaceTissueGridNodes(p, spacing_m, d);
+  AddTissueGridSprings(p, spacing_m, d);
+  AnchorTissueGridNodes(p, d);
   d.max_kinetic_energy_J = p.max_kinetic_energy_J;
   return d;
 }

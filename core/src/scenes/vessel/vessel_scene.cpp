@@ -65,6 +65,11 @@ double MaxMeshlessOmega_rad_per_s(const MeshlessModel& m) {
   return std::sqrt(omega2);
 }
 
+// Node (k, l, a) of the wall's lattice: station k, layer l, angle a (mod ring).
+std::int32_t VesselLatticeNode(const VesselGeometry& g, int k, int l, int a) {
+  return static_cast<std::int32_t>((k * g.layers + l) * g.ring + (a % g.ring));
+}
+
 // The same bound for springs (Gershgorin: |K_ii| + sum |K_ij| <= 2 sum k).
 double MaxSpringOmega_rad_per_s(const MeshlessModel& m, const std::vector<DistanceConstraint>& springs) {
   std::vector<double> k_sum(static_cast<std::size_t>(m.n), 0.0);
@@ -207,10 +212,11 @@ void VesselScene::OrientLumenPressure() {
 }
 
 void VesselScene::BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch) {
+  BuildLatticeTets(spacing_m);
   // Lattice edges (axial, around, across) and, for the baselines, the
   // diagonals of every lattice face (shear).
   const int S = geometry_.stations, L = geometry_.layers, R = geometry_.ring;
-  auto node = [&](int k, int l, int a) { return static_cast<std::int32_t>((k * L + l) * R + (a % R)); };
+  auto node = [&](int k, int l, int a) { return VesselLatticeNode(geometry_, k, l, a); };
   auto rest = [&](std::int32_t i, std::int32_t j) { return (geometry_.nodes_m.col(i) - geometry_.nodes_m.col(j)).norm(); };
   const double k_stretch = params_.stretch_fraction * params_.youngs_modulus_Pa * spacing_m;
   auto diagonal = [&](std::int32_t i, std::int32_t j) {  // baselines only
@@ -222,20 +228,6 @@ void VesselScene::BuildLattice(double spacing_m, std::vector<DistanceConstraint>
     if (kind_ == VesselModel::kMeshlessXpbd && k_stretch > 0.0) stretch.push_back({i, j, rest(i, j), 1.0 / k_stretch});
     diagonal(i, j);
   };
-  // Six tetrahedra per lattice cell around its main diagonal (Kuhn), corner
-  // c = bits (station, layer, angle).
-  const double k_tet = params_.tet_fraction * params_.youngs_modulus_Pa * spacing_m;
-  if (kind_ == VesselModel::kMeshlessXpbd && k_tet > 0.0) {
-    constexpr int kKuhn[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
-    for (int k = 0; k + 1 < S; ++k)
-      for (int l = 0; l + 1 < L; ++l)
-        for (int a = 0; a < R; ++a) {
-          auto corner = [&](int bits) { return node(k + (bits & 1), l + ((bits >> 1) & 1), a + ((bits >> 2) & 1)); };
-          for (const auto& t : kKuhn) {
-            tets_.push_back(MakeTetEnergyConstraint(geometry_.nodes_m, {corner(0), corner(t[0]), corner(t[1]), corner(7)}, k_tet));
-          }
-        }
-  }
   for (int k = 0; k < S; ++k)
     for (int l = 0; l < L; ++l)
       for (int a = 0; a < R; ++a) {
@@ -245,6 +237,26 @@ void VesselScene::BuildLattice(double spacing_m, std::vector<DistanceConstraint>
         if (k + 1 < S) diagonal(node(k, l, a), node(k + 1, l, a + 1)), diagonal(node(k, l, a + 1), node(k + 1, l, a));
         if (l + 1 < L) diagonal(node(k, l, a), node(k, l + 1, a + 1)), diagonal(node(k, l, a + 1), node(k, l + 1, a));
         if (k + 1 < S && l + 1 < L) diagonal(node(k, l, a), node(k + 1, l + 1, a)), diagonal(node(k, l + 1, a), node(k + 1, l, a));
+      }
+}
+
+// The paper's energy constraints (meshless_xpbd only): six tetrahedra per
+// lattice cell around its main diagonal (Kuhn), corner c = bits (station,
+// layer, angle).
+void VesselScene::BuildLatticeTets(double spacing_m) {
+  const double k_tet = params_.tet_fraction * params_.youngs_modulus_Pa * spacing_m;
+  if (kind_ != VesselModel::kMeshlessXpbd || !(k_tet > 0.0)) return;
+  constexpr int kKuhn[6][2] = {{1, 3}, {1, 5}, {2, 3}, {2, 6}, {4, 5}, {4, 6}};
+  for (int k = 0; k + 1 < geometry_.stations; ++k)
+    for (int l = 0; l + 1 < geometry_.layers; ++l)
+      for (int a = 0; a < geometry_.ring; ++a) {
+        auto corner = [&](int bits) {
+          return VesselLatticeNode(geometry_, k + (bits & 1), l + ((bits >> 1) & 1), a + ((bits >> 2) & 1));
+        };
+        for (const auto& t : kKuhn) {
+          tets_.push_back(
+              MakeTetEnergyConstraint(geometry_.nodes_m, {corner(0), corner(t[0]), corner(t[1]), corner(7)}, k_tet));
+        }
       }
 }
 
@@ -328,41 +340,55 @@ void VesselScene::VesselConstraints::Project(Eigen::Matrix3Xd& x_m, const Eigen:
 }
 
 bool VesselScene::Advance(bool tool_ok, double h_s) {
-  // Contact candidates: nodes whose rest position is within the probe radius
-  // plus the largest displacement of any node (so none currently inside is missed).
-  candidates_.clear();
-  if (tool_ok) {
-    const double reach_m = params_.probe_radius_m + MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
-    rest_grid_.ForEachWithin(geometry_.nodes_m, tip_W_m_, reach_m, [&](std::uint32_t i) {
-      if (!model_.fixed[i]) candidates_.push_back(i);
-    });
-  }
-  // 1. Elastic forces (meshless, or the mass-spring baseline's springs; plain
-  // PBD has none) as the step's external forces.
-  if (kind_ == VesselModel::kMeshlessXpbd) {
-    strain_energy_J_ = ComputeMeshlessForces(model_, wall_.x_m, F_, wall_.f_ext_N);
-  } else {
-    wall_.f_ext_N.setZero();
-    strain_energy_J_ = 0.0;
-    if (kind_ == VesselModel::kMassSpring) {
-      for (const DistanceConstraint& s : springs_) {
-        const Eigen::Vector3d d = wall_.x_m.col(s.j) - wall_.x_m.col(s.i);
-        const double length = d.norm();
-        if (length < 1e-15) continue;
-        const double stretch = length - s.rest_m;
-        const Eigen::Vector3d f = (stretch / s.compliance_m_per_N / length) * d;
-        wall_.f_ext_N.col(s.i) += f;
-        wall_.f_ext_N.col(s.j) -= f;
-        strain_energy_J_ += 0.5 * stretch * stretch / s.compliance_m_per_N;
-      }
-    }
-  }
+  FindContactCandidates(tool_ok);
+  // 1. Elastic forces as the step's external forces, and the lumen's pressure.
+  ComputeElasticForces();
   AddLumenPressure();
   // 2-3. Prediction, the sweeps (the model's constraints, then this scene's), velocities.
   VesselConstraints extra(*this);
   StepXpbd(wall_model_, wall_, h_s, &extra);
-
   // The contact force on the tool; the blow-up guard.
+  SumToolContactForce(h_s);
+  const double kinetic_J = WallKineticEnergy_J();
+  time_s_ += h_s;
+  return std::isfinite(kinetic_J) && kinetic_J <= params_.max_kinetic_energy_J;
+}
+
+// Contact candidates: nodes whose rest position is within the probe radius
+// plus the largest displacement of any node (so none currently inside is missed).
+void VesselScene::FindContactCandidates(bool tool_ok) {
+  candidates_.clear();
+  if (!tool_ok) return;
+  const double reach_m = params_.probe_radius_m + MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
+  rest_grid_.ForEachWithin(geometry_.nodes_m, tip_W_m_, reach_m, [&](std::uint32_t i) {
+    if (!model_.fixed[i]) candidates_.push_back(i);
+  });
+}
+
+// The meshless forces, or the mass-spring baseline's springs (plain PBD has
+// none), into wall_.f_ext_N; their strain energy.
+void VesselScene::ComputeElasticForces() {
+  if (kind_ == VesselModel::kMeshlessXpbd) {
+    strain_energy_J_ = ComputeMeshlessForces(model_, wall_.x_m, F_, wall_.f_ext_N);
+    return;
+  }
+  wall_.f_ext_N.setZero();
+  strain_energy_J_ = 0.0;
+  if (kind_ != VesselModel::kMassSpring) return;
+  for (const DistanceConstraint& s : springs_) {
+    const Eigen::Vector3d d = wall_.x_m.col(s.j) - wall_.x_m.col(s.i);
+    const double length = d.norm();
+    if (length < 1e-15) continue;
+    const double stretch = length - s.rest_m;
+    const Eigen::Vector3d f = (stretch / s.compliance_m_per_N / length) * d;
+    wall_.f_ext_N.col(s.i) += f;
+    wall_.f_ext_N.col(s.j) -= f;
+    strain_energy_J_ += 0.5 * stretch * stretch / s.compliance_m_per_N;
+  }
+}
+
+// Each contact's multiplier over h² along its node's push off the tip.
+void VesselScene::SumToolContactForce(double h_s) {
   const double inv_h2 = 1.0 / (h_s * h_s);
   outputs_.tool_force_W_N.setZero();
   for (const std::uint32_t i : candidates_) {
@@ -371,11 +397,13 @@ bool VesselScene::Advance(bool tool_ok, double h_s) {
     const double length = out.norm();
     if (length > 0.0) outputs_.tool_force_W_N -= contact_lambda_[i] * inv_h2 * out / length;
   }
+}
+
+double VesselScene::WallKineticEnergy_J() const {
   double kinetic_J = 0.0;
   for (std::int32_t i = 0; i < model_.n; ++i)
     kinetic_J += 0.5 * model_.mass_kg[i] * wall_.v_m_per_s.col(i).squaredNorm();
-  time_s_ += h_s;
-  return std::isfinite(kinetic_J) && kinetic_J <= params_.max_kinetic_energy_J;
+  return kinetic_J;
 }
 
 void VesselScene::Step(const ToolInput& tool, double dt_s) {

@@ -81,12 +81,22 @@ class AcupunctureScene final : public SceneWithOutputs {
  private:
   void ResetState();
   void NumericalReset();
+  // Step: the needle leaves the tissue (LoseTool) or follows the tool, then
+  // the nets spring back and the blow-up guard checks what is published.
+  void LoseTool(const ToolInput& tool);
+  void FollowTool(const ToolInput& tool);  // UpdateInsertion, ComputeForce, ComputeForceModel
+  void AdvanceSpringback();
+  bool PublishedStateFinite() const;
   void UpdateInsertion(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis);
   void StartContact(int layer, const Eigen::Vector3d& tip);
   void Puncture(int layer, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis);
   void ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
   void ComputeForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
+  double RenderedNetStiffness_N_per_m(std::size_t layer) const;        // capped for the device
+  LocalForceModel TunnelForceModel(const Eigen::Vector3d& tip) const;  // after skin puncture
+  LocalForceModel SkinPressForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) const;
   void BuildDisplay();
+  void PlacePatchVertices(int layer);  // at build: one layer's patch_rest_W_m_ and patch_dir_W_
   void ShowNet(int layer);   // the patch follows this layer's freshly placed net
   void HideNet(int layer);   // the patch goes back to rest
   void UpdatePatches();

@@ -77,6 +77,10 @@ class CuttingScene final : public SceneWithOutputs {
   void AddBladeToMesh();                                  // at build
   void CheckStepIsStable(double min_node_mass_kg) const;  // at build; throws std::invalid_argument
   void StepOnce(const ToolInput& tool, double h_s);
+  // StepOnce's steps before the cut and the contact, in order.
+  void HoldSkinOnTissue();
+  void ClearStepContact();
+  void FindNodesInBlade(const Cylinder& blade);
   void UpdateCut(const ToolInput& tool, const Cylinder& blade);
   void EndCut(const Eigen::Vector3d& where);
   void ApplyContact(const ToolInput& tool, const Cylinder& blade);

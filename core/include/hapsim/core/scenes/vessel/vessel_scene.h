@@ -108,6 +108,7 @@ class VesselScene final : public SceneWithOutputs {
   // The constructor's steps, in order.
   void BuildMeshlessWall(double support_radius_m);
   void BuildLattice(double spacing_m, std::vector<DistanceConstraint>& stretch);
+  void BuildLatticeTets(double spacing_m);  // BuildLattice's first step: tets_
   void BuildFoundation(const VesselGeometryDef& def);
   void ScaleMassesForStability();  // throws std::invalid_argument if even the scaled step is unstable
   void BuildWallStep(std::vector<DistanceConstraint> stretch);
@@ -118,6 +119,11 @@ class VesselScene final : public SceneWithOutputs {
   void Inflate();                          // at build: the wall settled under the lumen pressure, inflated_m_
   void AddLumenPressure();                 // the pressure's nodal forces on the inner wall, into wall_.f_ext_N
   bool Advance(bool tool_ok, double h_s);  // false: blew up
+  // Advance's steps, in order (StepXpbd between the forces and the tool's force).
+  void FindContactCandidates(bool tool_ok);  // candidates_
+  void ComputeElasticForces();               // into wall_.f_ext_N, strain_energy_J_
+  void SumToolContactForce(double h_s);      // outputs_.tool_force_W_N
+  double WallKineticEnergy_J() const;
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
 
