@@ -1,7 +1,8 @@
 // hapsim-bridge: the device-bridge process. Reads a haptic device at 1 kHz
-// (synthetic or replay backends here; OpenHaptics when built with the SDK),
-// streams its pose over DDS, and renders the server's local force model,
-// clamped and watched by the staleness watchdog. Prints a summary at exit.
+// (synthetic, replay, or a Phantom Omni / Touch through the OpenHaptics
+// runtime loaded at run time), streams its pose over DDS, and renders the
+// server's local force model through the safety chain. Prints a summary at
+// exit.
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -10,6 +11,7 @@
 #include <memory>
 #include <thread>
 
+#include "backends/openhaptics_device.h"
 #include "backends/replay_device.h"
 #include "backends/synthetic_device.h"
 #include "hapsim/bridge/bridge_dds.h"
@@ -50,12 +52,53 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
               static_cast<ull>(r.safety.non_finite), static_cast<ull>(r.safety.disarms),
               hapsim::bridge::ToString(r.final_watchdog), static_cast<ull>(r.safety.warnings),
               static_cast<ull>(r.safety.fades));
+  std::printf("bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
+              "%llu, passivity corrected %llu (uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
+              static_cast<ull>(r.safety.models_capped), static_cast<ull>(r.safety.model_jumps),
+              static_cast<ull>(r.safety.jump_steps_limited), static_cast<ull>(r.safety.velocity_limited),
+              static_cast<ull>(r.safety.passivity_corrected), static_cast<ull>(r.safety.passivity_uncorrected),
+              static_cast<ull>(r.safety.ramp_limited), static_cast<ull>(r.safety.derated),
+              static_cast<ull>(r.safety.arm_toggles));
   std::fflush(stdout);
 }
+
+// The OpenHaptics backend's flags.
+struct OpenHapticsFlags {
+  std::string library = "libHD.so", device_name, offset_mm = "0,0,0";
+  double workspace_scale = 1.0, calibration_wait_s = 30.0, stall_ms = 10.0;
+
+  void Add(hapsim::common::Flags& flags) {
+    flags.Add("hd-library", &library, "openhaptics: the HD runtime to load (a library name or path)");
+    flags.Add("hd-device", &device_name, "openhaptics: the HD device configuration name (empty: the default)");
+    flags.Add("workspace-scale", &workspace_scale, "openhaptics: world metres per device metre");
+    flags.Add("workspace-offset-mm", &offset_mm, "openhaptics: X,Y,Z of the device origin in the world [mm]");
+    flags.Add("hd-calibration-wait-s", &calibration_wait_s,
+              "openhaptics: how long to wait for the stylus in its inkwell when it needs calibrating [s]");
+    flags.Add("hd-stall-ms", &stall_ms, "openhaptics: a servo scheduler gap counted as a stall [ms]");
+  }
+  // Throws std::invalid_argument naming the bad flag.
+  hapsim::bridge::OpenHapticsConfig ToConfig() const {
+    hapsim::bridge::OpenHapticsConfig c;
+    c.library = library;
+    c.device_name = device_name;
+    c.workspace.scale = workspace_scale;
+    double x = 0, y = 0, z = 0;
+    char rest = 0;
+    if (std::sscanf(offset_mm.c_str(), "%lf,%lf,%lf%c", &x, &y, &z, &rest) != 3) {
+      throw std::invalid_argument("--workspace-offset-mm must be X,Y,Z in millimetres");
+    }
+    c.workspace.offset_W_m = Eigen::Vector3d(x, y, z) * 1e-3;
+    c.calibration_wait_s = calibration_wait_s;
+    c.stall_timeout_s = stall_ms * 1e-3;
+    hapsim::bridge::ValidateOpenHapticsConfig(c);
+    return c;
+  }
+};
 
 // The flags of hapsim-bridge.
 struct BridgeFlags {
   std::string session = "demo", backend = "synthetic", replay_file, trace_file;
+  OpenHapticsFlags openhaptics;
   int device_id = 1;
   double seconds = 0.0, rate_hz = 1000.0;
   hapsim::bridge::ScriptFlags script;
@@ -68,9 +111,10 @@ struct BridgeFlags {
 void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
   flags.Add("session", &f->session, "session id to drive");
   flags.Add("device-id", &f->device_id, "device id (unique per device on the DDS domain)");
-  flags.Add("backend", &f->backend, "synthetic or replay");
+  flags.Add("backend", &f->backend, "synthetic, replay or openhaptics");
   hapsim::bridge::AddScriptFlags(flags, &f->script, "synthetic random_walk: seed");
   flags.Add("replay-file", &f->replay_file, "replay: pose log CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,...)");
+  f->openhaptics.Add(flags);
   flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
   flags.Add("keep-running", &f->keep_running, "keep running after a finite script or replay ends");
   flags.Add("rate-hz", &f->rate_hz, "servo loop rate [Hz]");
@@ -98,7 +142,9 @@ bool BridgeFlagsInRange(const BridgeFlags& f) {
 // Flags that are wrong together or out of range in the script or safety
 // settings: false (after saying which), so main exits 2 like any bad flag (a
 // replay file that cannot be read is a runtime error, exit 1, in RunBridge).
-// The synthetic device is made here; *device stays empty for a replay.
+// The synthetic device is made here; *device stays empty for a replay or a
+// real device (opened in RunBridge: a device that cannot start is a runtime
+// error).
 bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_config,
                      std::unique_ptr<hapsim::bridge::HapticDevice>* device) {
   try {
@@ -107,8 +153,10 @@ bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_
       *device = std::make_unique<hapsim::bridge::SyntheticDevice>(f.script.ToScript());
     } else if (f.backend == "replay") {
       if (f.replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
+    } else if (f.backend == "openhaptics") {
+      (void)f.openhaptics.ToConfig();  // bad flags before anything opens
     } else {
-      throw std::invalid_argument("unknown backend '" + f.backend + "' (synthetic or replay)");
+      throw std::invalid_argument("unknown backend '" + f.backend + "' (synthetic, replay or openhaptics)");
     }
   } catch (const std::invalid_argument& e) {
     std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
@@ -135,6 +183,9 @@ hapsim::bridge::ServoConfig MakeBridgeServoConfig(const BridgeFlags& f,
 int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
               std::unique_ptr<hapsim::bridge::HapticDevice> device) {
   try {
+    if (!device && f.backend == "openhaptics") {
+      device = std::make_unique<hapsim::bridge::OpenHapticsDevice>(f.openhaptics.ToConfig());
+    }
     if (!device) device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(f.replay_file));
 
     hapsim::bridge::BridgeDds dds(f.process.Dds(), static_cast<std::uint32_t>(f.device_id), f.session);
@@ -161,6 +212,18 @@ int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_c
       spdlog::error("cannot write trace to {}", f.trace_file);
     }
     PrintReport(report, device->Name(), f.session, dds);
+    if (const auto* hd = dynamic_cast<const hapsim::bridge::OpenHapticsDevice*>(device.get())) {
+      const hapsim::bridge::OpenHapticsCounters c = hd->counters();
+      std::printf("bridge: device scheduler %llu ticks, stalls %llu, longest gap %.1f ms, motor temperature %s\n",
+                  static_cast<unsigned long long>(c.ticks), static_cast<unsigned long long>(c.stalls),
+                  c.longest_gap_s * 1e3,
+                  c.max_motor_temperature < 0 ? "not reported" : std::to_string(c.max_motor_temperature).c_str());
+      std::fflush(stdout);
+      if (!hd->fault().empty()) {
+        std::fprintf(stderr, "hapsim-bridge: device fault, force output stopped at zero: %s\n", hd->fault().c_str());
+        return 1;
+      }
+    }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
     return 1;
@@ -176,8 +239,10 @@ int main(int argc, char** argv) {
       "hapsim-bridge",
       "Device-bridge of hapsim: reads a haptic device at the servo rate, publishes its pose over DDS,\n"
       "and renders the physics server's local force model with a force clamp, a rise-rate limit and a\n"
-      "staleness watchdog. Backends: synthetic (scripted motion), replay (pose log CSV).\n\n"
-      "Exit: 0 done, 1 runtime error (DDS, an unreadable replay file), 2 bad flags.");
+      "staleness watchdog. Backends: synthetic (scripted motion), replay (pose log CSV), openhaptics\n"
+      "(a Phantom Omni / Touch through the vendor's HD runtime, loaded at run time: docs/device.md).\n\n"
+      "Exit: 0 done, 1 runtime error (DDS, an unreadable replay file, a device that cannot start or\n"
+      "faulted), 2 bad flags.");
   AddBridgeFlags(flags, &f);
   const int parse_exit = hapsim::bridge::ParseCommandLine(flags, argc, argv, f.process, "hapsim-bridge", "bridge");
   if (parse_exit >= 0) return parse_exit;

@@ -1,6 +1,7 @@
 #include "hapsim/bridge/device_flags.h"
 
 #include <cstdio>
+#include <stdexcept>
 
 #include "hapsim/common/logging.h"
 
@@ -45,6 +46,14 @@ SafetyConfig SafetyFlags::ToConfig() const {
   c.warn_age_s = warn_ms * 1e-3;
   c.fade_start_age_s = fade_ms * 1e-3;
   c.disarm_age_s = disarm_ms * 1e-3;
+  c.max_stiffness_N_per_m = max_stiffness_N_per_m;
+  c.max_damping_Ns_per_m = max_damping_Ns_per_m;
+  c.max_velocity_m_per_s = max_velocity_m_per_s;
+  c.max_continuous_force_N = max_continuous_force_N;
+  c.ramp_in_s = ramp_in_s;
+  if (arm_button < 0 || arm_button > 4) throw std::invalid_argument("--arm-button must be 0 (none) or 1-4");
+  c.arm_button_mask = arm_button == 0 ? 0u : 1u << (arm_button - 1);
+  c.passivity_control = !no_passivity;
   ValidateSafetyConfig(c);
   return c;
 }
@@ -55,6 +64,15 @@ void AddSafetyFlags(common::Flags& flags, SafetyFlags* s) {
   flags.Add("watchdog-warn-ms", &s->warn_ms, "model older than this: warning [ms]");
   flags.Add("watchdog-fade-ms", &s->fade_ms, "model older than this: force fades out [ms]");
   flags.Add("watchdog-disarm-ms", &s->disarm_ms, "model older than this: zero force until a fresh model [ms]");
+  flags.Add("max-stiffness-n-per-m", &s->max_stiffness_N_per_m,
+            "stiffest spring rendered [N/m] (lower if the device says so; Omni 700, Touch 400)");
+  flags.Add("max-damping-ns-per-m", &s->max_damping_Ns_per_m, "largest damping rendered [N s/m]");
+  flags.Add("max-velocity-m-s", &s->max_velocity_m_per_s, "above this stylus speed the force is zero [m/s]");
+  flags.Add("max-continuous-force-n", &s->max_continuous_force_N,
+            "average force the motors may hold, when the device does not say [N]");
+  flags.Add("ramp-in-s", &s->ramp_in_s, "force ramp after each arming [s] (0: none)");
+  flags.Add("arm-button", &s->arm_button, "stylus button (1-4) that toggles force output (0: always armed)");
+  flags.Add("no-passivity", &s->no_passivity, "turn off the time-domain passivity controller (tests only)");
 }
 
 void AddProcessFlags(common::Flags& flags, ProcessFlags* p) {

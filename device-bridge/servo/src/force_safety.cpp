@@ -1,16 +1,8 @@
 #include "hapsim/servo/force_safety.h"
 
-#include <stdexcept>
+#include "hapsim/servo/rendering_cap.h"
 
 namespace hapsim::bridge {
-
-void ValidateSafetyConfig(const SafetyConfig& c) {
-  if (!(c.max_force_N > 0.0 && c.max_force_N <= 10.0)) throw std::invalid_argument("max force must be in (0, 10] N");
-  if (!(c.max_rise_N_per_s > 0.0)) throw std::invalid_argument("force rise limit must be > 0 N/s");
-  if (!(c.warn_age_s > 0.0 && c.warn_age_s <= c.fade_start_age_s && c.fade_start_age_s < c.disarm_age_s)) {
-    throw std::invalid_argument("watchdog ages must satisfy 0 < warn <= fade start < disarm");
-  }
-}
 
 const char* ToString(WatchdogState s) {
   switch (s) {
@@ -23,7 +15,25 @@ const char* ToString(WatchdogState s) {
   return "unknown";
 }
 
-ForceSafety::ForceSafety(const SafetyConfig& config) : config_(config) { ValidateSafetyConfig(config_); }
+namespace {
+const SafetyConfig& Validated(const SafetyConfig& config, const DeviceLimits& device) {
+  ValidateSafetyConfig(config);
+  ValidateDeviceLimits(device);
+  return config;
+}
+
+TransitionConfig TransitionOf(const SafetyConfig& c) {
+  return {c.model_transition_ticks, c.jnd_fraction, c.jnd_floor_N};
+}
+}  // namespace
+
+ForceSafety::ForceSafety(const SafetyConfig& config, const DeviceLimits& device)
+    : config_(Validated(config, device)),
+      limits_(CombineLimits(config, device)),
+      arming_(config.arm_button_mask, config.ramp_in_s),
+      passivity_(limits_.max_damping_Ns_per_m),
+      continuous_(limits_.max_continuous_force_N, config.continuous_window_s),
+      transition_(TransitionOf(config)) {}
 
 namespace {
 // 0 for no-model and fresh, then warn < fading < disarmed.
@@ -37,6 +47,11 @@ int Severity(WatchdogState s) {
   }
   return 0;
 }
+
+// The watchdog lets force through (fully or fading).
+bool Passes(WatchdogState s) {
+  return s == WatchdogState::kFresh || s == WatchdogState::kWarn || s == WatchdogState::kFading;
+}
 }  // namespace
 
 void ForceSafety::CountEscalation(WatchdogState next) {
@@ -47,15 +62,33 @@ void ForceSafety::CountEscalation(WatchdogState next) {
 }
 
 // The stages in the order the header promises; each takes the previous
-// stage's force.
-Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_s, double dt_s) {
-  Eigen::Vector3d f = requested;
-  ZeroIfNonFinite(f);         // 1. garbage in -> nothing out
-  ClampMagnitude(f);          // 2. magnitude clamp
-  f *= WatchdogScale(age_s);  // 3. watchdog
-  LimitRise(f, dt_s);         // 4. rise-rate limit (decreases pass at once)
+// stage's force. The states come first: the watchdog's and the arm
+// button's decide the ramp-in of stage 4 and what stage 5 sees.
+Eigen::Vector3d ForceSafety::Apply(const SafetyInput& in) {
+  const double watchdog = WatchdogScale(in.model_age_s);
+  if (arming_.Update(in.buttons, Passes(state_), in.dt_s)) ++counters_.arm_toggles;
+  const double pass_on = arming_.armed() ? watchdog : 0.0;
+  const Eigen::Vector3d& v = in.velocity_W_m_per_s;
+  Eigen::Vector3d f = in.requested_W_N;
+  ZeroIfNonFinite(f);                              // 1. garbage in -> nothing out
+  const bool too_fast = LimitVelocity(f, v);       // 2. stylus too fast -> nothing out
+  if (!too_fast) ControlPassivity(f, v, in.dt_s);  // 3. no energy the hand never gave
+  ClampMagnitude(f);                               // 4. magnitude clamp, ramping in after arming
+  Derate(f, pass_on, in.dt_s);                     // 5. continuous-force limit
+  f *= watchdog;                                   // 6. watchdog
+  if (!arming_.armed()) f.setZero();               // 7. arm button
+  LimitRise(f, in.dt_s);                           // 8. rise-rate limit (decreases pass at once)
+  passivity_.Observe(f, v, in.dt_s);               // the observer integrates what is commanded
   last_W_N_ = f;
   return f;
+}
+
+Eigen::Vector3d ForceSafety::Apply(const Eigen::Vector3d& requested, double age_s, double dt_s) {
+  SafetyInput in;
+  in.requested_W_N = requested;
+  in.model_age_s = age_s;
+  in.dt_s = dt_s;
+  return Apply(in);
 }
 
 void ForceSafety::ZeroIfNonFinite(Eigen::Vector3d& f) {
@@ -65,12 +98,39 @@ void ForceSafety::ZeroIfNonFinite(Eigen::Vector3d& f) {
   }
 }
 
-void ForceSafety::ClampMagnitude(Eigen::Vector3d& f) {
-  const double magnitude = f.norm();
-  if (magnitude > config_.max_force_N) {
-    ++counters_.clamped;
-    f *= config_.max_force_N / magnitude;
+bool ForceSafety::LimitVelocity(Eigen::Vector3d& f, const Eigen::Vector3d& v) {
+  if (v.norm() <= config_.max_velocity_m_per_s) return false;
+  ++counters_.velocity_limited;  // a NaN velocity too: the reading is garbage
+  f.setZero();
+  return true;
+}
+
+void ForceSafety::ControlPassivity(Eigen::Vector3d& f, const Eigen::Vector3d& v, double dt_s) {
+  if (!config_.passivity_control) return;
+  switch (passivity_.Control(f, v, dt_s)) {
+    case PassivityController::Action::kNone:
+      break;
+    case PassivityController::Action::kCorrected:
+      ++counters_.passivity_corrected;
+      break;
+    case PassivityController::Action::kCapped:
+      ++counters_.passivity_uncorrected;
+      break;
   }
+}
+
+void ForceSafety::ClampMagnitude(Eigen::Vector3d& f) {
+  const double fraction = arming_.clamp_fraction();
+  const double clamp_N = limits_.max_force_N * fraction;
+  const double magnitude = f.norm();
+  if (magnitude > clamp_N) {
+    ++(fraction < 1.0 ? counters_.ramp_limited : counters_.clamped);
+    f *= clamp_N / magnitude;
+  }
+}
+
+void ForceSafety::Derate(Eigen::Vector3d& f, double pass_on, double dt_s) {
+  if (continuous_.Apply(f, pass_on, dt_s)) ++counters_.derated;
 }
 
 double ForceSafety::WatchdogScale(double age_s) {
@@ -107,6 +167,23 @@ void ForceSafety::LimitRise(Eigen::Vector3d& f, double dt_s) {
     ++counters_.rate_limited;
     f *= allowed / wanted;
   }
+}
+
+void ForceSafety::CapModel(core::LocalForceModel* model) {
+  if (CapRendering(model, limits_.max_stiffness_N_per_m, limits_.max_damping_Ns_per_m)) ++counters_.models_capped;
+}
+
+void ForceSafety::OfferModel(const core::LocalForceModel& replaced, const Eigen::Vector3d& new_W_N,
+                             const Eigen::Vector3d& x, const Eigen::Vector3d& v) {
+  if (transition_.Offer(replaced, new_W_N, x, v)) ++counters_.model_jumps;
+}
+
+Eigen::Vector3d ForceSafety::Blend(const Eigen::Vector3d& model_W_N, const Eigen::Vector3d& x,
+                                   const Eigen::Vector3d& v) {
+  bool held_back = false;
+  const Eigen::Vector3d f = transition_.Step(model_W_N, x, v, &held_back);
+  if (held_back) ++counters_.jump_steps_limited;
+  return f;
 }
 
 }  // namespace hapsim::bridge

@@ -10,7 +10,7 @@ namespace hapsim::bridge {
 ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
     : device_(device),
       period_s_(config.period_s),
-      safety_(config.safety),
+      safety_(config.safety, device->Limits()),
       warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
       round_trip_s_(config.stats_window),
       model_age_s_(config.stats_window) {
@@ -49,7 +49,15 @@ void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     ++counters_.echo_regressions;
     return;
   }
-  model_ = incoming;  // unpacked and checked by the receive thread (hapsim::wire)
+  // Unpacked and checked by the receive thread (hapsim::wire); rendered no
+  // stiffer than the device can, and blended in if it jumps.
+  safety_.CapModel(&incoming.model);
+  const DeviceReading& r = tick_.reading;
+  if (have_model_) {
+    safety_.OfferModel(model_.model, core::EvaluateLocalForce(incoming.model, r.tip_W_m, r.velocity_W_m_per_s),
+                       r.tip_W_m, r.velocity_W_m_per_s);
+  }
+  model_ = incoming;
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
   ++counters_.models_taken;
@@ -71,7 +79,14 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   const DeviceReading& r = tick_.reading;
   tick_.requested_W_N =
       have_model_ ? core::EvaluateLocalForce(model_.model, r.tip_W_m, r.velocity_W_m_per_s) : Eigen::Vector3d::Zero();
-  tick_.force_W_N = safety_.Apply(tick_.requested_W_N, tick_.model_age_s, period_s_);
+  tick_.blended_W_N = safety_.Blend(tick_.requested_W_N, r.tip_W_m, r.velocity_W_m_per_s);
+  SafetyInput in;
+  in.requested_W_N = tick_.blended_W_N;
+  in.velocity_W_m_per_s = r.velocity_W_m_per_s;
+  in.buttons = r.buttons;
+  in.model_age_s = tick_.model_age_s;
+  in.dt_s = period_s_;
+  tick_.force_W_N = safety_.Apply(in);
   device_->CommandForce(tick_.force_W_N);
   RecordPeaks();
   ++counters_.ticks;

@@ -1,5 +1,7 @@
 #include "hapsim/servo/servo_loop.h"
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "hapsim/servo/deadline_ticker.h"
@@ -22,34 +24,65 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
   channel_config.period_s = 1.0 / config_.rate_hz;
   channel_config.safety = config_.safety;
   ServoChannel channel(device_, channel_config);
-  DeadlineTicker ticker(config_.rate_hz);
-
-  while (!stop.load(std::memory_order_relaxed)) {
-    const double t = ticker.Wait();
-    if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
-    // 1. device -> pose mailbox (the DDS thread sends it)
-    const DeviceReading& reading = channel.Sense(t);
-    if (reading.finished && config_.stop_when_script_finishes) break;
-    pose_out_->Publish(channel.pose());
-    wake_io_();
-    // 2. newest model -> safety -> device
-    const ChannelTick& tick = channel.Actuate(*model_in_);
-    // 3. trace (reserved above: no allocation)
-    if (report.trace.size() < config_.trace_capacity) {
-      const ChannelCounters& c = channel.counters();
-      report.trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
-                              tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
-                              static_cast<std::uint8_t>(channel.model_state()), channel.watchdog()});
-    }
+  if (device_->RunsOwnServo()) {
+    RunOnDeviceServo(channel, stop, &report);
+  } else {
+    RunOnTicker(channel, stop, &report);
   }
-  report.elapsed_s = ticker.ElapsedS();
-  report.period_error_s = ticker.PeriodError();
   report.model_age_s = channel.ModelAge();
   report.round_trip_s = channel.RoundTrip();
   report.channel = channel.counters();
   report.safety = channel.safety_counters();
   report.final_watchdog = channel.watchdog();
   return report;
+}
+
+void ServoLoop::RunOnTicker(ServoChannel& channel, const std::atomic<bool>& stop, ServoReport* report) {
+  DeadlineTicker ticker(config_.rate_hz);
+  while (!stop.load(std::memory_order_relaxed)) {
+    if (!Tick(channel, ticker.Wait(), stop, report)) break;
+  }
+  report->elapsed_s = ticker.ElapsedS();
+  report->period_error_s = ticker.PeriodError();
+}
+
+// The device's scheduler is the clock: the period error is measured from
+// the times it passes to successive ticks.
+void ServoLoop::RunOnDeviceServo(ServoChannel& channel, const std::atomic<bool>& stop, ServoReport* report) {
+  const double period_s = 1.0 / config_.rate_hz;
+  common::SampleWindow period_error_s(1 << 17);
+  double previous_t_s = -1.0;
+  const auto start = std::chrono::steady_clock::now();
+  // Built once, before the first tick (a std::function may allocate).
+  const std::function<bool(double)> tick = [&](double t_s) {
+    if (!Tick(channel, t_s, stop, report)) return false;
+    if (previous_t_s >= 0.0) period_error_s.Record(std::abs(t_s - previous_t_s - period_s));
+    previous_t_s = t_s;
+    return true;
+  };
+  device_->RunServo(tick, stop);
+  report->elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report->period_error_s = period_error_s.Summary();
+}
+
+bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& stop, ServoReport* report) {
+  if (stop.load(std::memory_order_relaxed)) return false;
+  if (config_.run_seconds > 0.0 && t >= config_.run_seconds) return false;
+  // 1. device -> pose mailbox (the DDS thread sends it)
+  const DeviceReading& reading = channel.Sense(t);
+  if (reading.finished && config_.stop_when_script_finishes) return false;
+  pose_out_->Publish(channel.pose());
+  wake_io_();
+  // 2. newest model -> safety -> device
+  const ChannelTick& tick = channel.Actuate(*model_in_);
+  // 3. trace (reserved before the loop: no allocation)
+  if (report->trace.size() < config_.trace_capacity) {
+    const ChannelCounters& c = channel.counters();
+    report->trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
+                             tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
+                             static_cast<std::uint8_t>(channel.model_state()), channel.watchdog()});
+  }
+  return true;
 }
 
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {

@@ -7,13 +7,17 @@
 #include <cmath>
 #include <initializer_list>
 
+#include "safety_test_setup.h"
+
 namespace hapsim::bridge {
 namespace {
 
 constexpr double kDt = 0.001;
 
-// A safety layer whose rise limit is out of the way, to test the other rules alone.
-ForceSafety NoRiseLimit(SafetyConfig c = {}) {
+using test::WithoutRampIn;
+
+// A safety layer whose rise limit (and ramp-in) is out of the way, to test the other rules alone.
+ForceSafety NoRiseLimit(SafetyConfig c = WithoutRampIn()) {
   c.max_rise_N_per_s = 1e9;
   return ForceSafety(c);
 }
@@ -84,7 +88,7 @@ TEST(ForceSafety, EachReturnToStaleIsANewWarningEvent) {
 }
 
 TEST(ForceSafety, StaysDisarmedUntilAFreshModelThenRampsUp) {
-  SafetyConfig c;  // default rise limit 50 N/s
+  SafetyConfig c = WithoutRampIn();  // default rise limit 50 N/s
   ForceSafety s(c);
   const Eigen::Vector3d one(0, 0, 1.0);
   s.Apply(one, 0.150, kDt);
@@ -100,7 +104,7 @@ TEST(ForceSafety, StaysDisarmedUntilAFreshModelThenRampsUp) {
 }
 
 TEST(ForceSafety, DecreasesPassImmediately) {
-  ForceSafety s(SafetyConfig{});
+  ForceSafety s(WithoutRampIn());
   const Eigen::Vector3d big(0, 0, 2.0);
   for (int i = 0; i < 100; ++i) s.Apply(big, 0.001, kDt);
   ASSERT_NEAR(s.Apply(big, 0.001, kDt).z(), 2.0, 1e-12);

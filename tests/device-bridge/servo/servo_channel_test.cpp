@@ -12,6 +12,7 @@
 
 #include "backends/synthetic_device.h"
 #include "hapsim/common/clock.h"
+#include "safety_test_setup.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -41,7 +42,8 @@ class ServoChannelTest : public ::testing::Test {
  protected:
   SyntheticDevice device_{PressedTwoMillimetres()};
   common::LatestValue<ReceivedModel> inbox_;
-  ServoChannel channel_{&device_, ChannelConfig{7, 0.001, {}, 1024}};
+  // Without the ramp-in: the first tick expects the rise limit's 0.05 N.
+  ServoChannel channel_{&device_, ChannelConfig{7, 0.001, test::WithoutRampIn(), 1024}};
 };
 
 TEST_F(ServoChannelTest, SenseFillsThePoseWithThisDeviceSessionAndNextSeq) {

@@ -25,6 +25,7 @@ TEST(ServoLoop, StaleModelIsFadedToZeroAndDisarmed) {
   ServoConfig config;
   config.run_seconds = 0.4;
   config.trace_capacity = 1000;
+  config.safety.ramp_in_s = 0.0;  // the peak below is the rise limit's (arming_test.cpp tests the ramp-in)
   // One contact model (k = 500 N/m at the surface -> 1 N at 2 mm), then
   // silence. It arrives in the first tick, where the I/O wake-up runs, so its
   // age counts from the loop's start however long the start takes (seconds

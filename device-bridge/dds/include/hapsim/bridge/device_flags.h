@@ -23,8 +23,15 @@ struct ScriptFlags {
 void AddScriptFlags(common::Flags& flags, ScriptFlags* script, const std::string& seed_help);
 
 struct SafetyFlags {
-  double max_force_N = 2.5, max_rise_N_per_s = 50.0;
+  double max_force_N = SafetyConfig{}.max_force_N, max_rise_N_per_s = SafetyConfig{}.max_rise_N_per_s;
   double warn_ms = 20.0, fade_ms = 50.0, disarm_ms = 100.0;
+  double max_stiffness_N_per_m = SafetyConfig{}.max_stiffness_N_per_m;
+  double max_damping_Ns_per_m = SafetyConfig{}.max_damping_Ns_per_m;
+  double max_velocity_m_per_s = SafetyConfig{}.max_velocity_m_per_s;
+  double max_continuous_force_N = SafetyConfig{}.max_continuous_force_N;
+  double ramp_in_s = SafetyConfig{}.ramp_in_s;
+  int arm_button = 0;  // 0: none (always armed); 1-4: HD_DEVICE_BUTTON_1..4
+  bool no_passivity = !SafetyConfig{}.passivity_control;
   SafetyConfig ToConfig() const;  // throws std::invalid_argument when the limits are not ordered/positive
 };
 void AddSafetyFlags(common::Flags& flags, SafetyFlags* safety);

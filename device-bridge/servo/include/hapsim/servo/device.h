@@ -4,11 +4,14 @@
 // the world frame W in metres; a backend converts its native units (the HD
 // API's mm) in one place.
 #pragma once
-#include <cstdint>
-#include <string>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "hapsim/servo/device_limits.h"
 
 namespace hapsim::bridge {
 
@@ -33,6 +36,17 @@ class HapticDevice {
   // The force to render until the next tick [N], already clamped by the
   // safety layer. Must not block or allocate.
   virtual void CommandForce(const Eigen::Vector3d& force_W_N) = 0;
+  // What the device says about its limits (0: unknown); the safety chain
+  // combines them with its configured ones (CombineLimits).
+  virtual DeviceLimits Limits() const { return {}; }
+  // A device whose driver runs its own servo scheduler (OpenHaptics) calls
+  // tick(t) once per scheduler tick, t the time since the loop started [s],
+  // until tick returns false or stop is set, and returns only after its
+  // last call to tick has returned (the loop reads the tick's results
+  // then). Others return false from RunsOwnServo and the servo loop keeps
+  // its own clock.
+  virtual bool RunsOwnServo() const { return false; }
+  virtual void RunServo(const std::function<bool(double t_s)>& /*tick*/, const std::atomic<bool>& /*stop*/) {}
 };
 
 }  // namespace hapsim::bridge

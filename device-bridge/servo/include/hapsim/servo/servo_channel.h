@@ -2,9 +2,10 @@
 // channel; hapsim-load steps many on one thread. A tick is two calls:
 //  Sense    read the device, fill the StylusPose for this tick and remember
 //           its send time by seq (to turn an echoed seq into a round trip);
-//  Actuate  take the newest force model from the device's inbox, record
-//           round trip and model age, evaluate the local force model, pass
-//           it through this device's ForceSafety and command the device.
+//  Actuate  take the newest force model from the device's inbox (capped at
+//           the device's rendering limits, a jump blended in), record round
+//           trip and model age, evaluate the local force model, pass it
+//           through this device's ForceSafety and command the device.
 // The caller sends pose() in between. Nothing allocates after construction.
 // The servo sees core types only: the DDS side packs the pose it senses
 // and has unpacked every model before it reaches the inbox (hapsim::wire).
@@ -49,7 +50,8 @@ struct ChannelConfig {
 // What the last tick did, for the caller's trace and pooled statistics.
 struct ChannelTick {
   DeviceReading reading;
-  Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();  // from the local model (before safety)
+  Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();  // from the local model (capped; before safety)
+  Eigen::Vector3d blended_W_N = Eigen::Vector3d::Zero();    // handed to the chain: requested, or a model jump's blend
   Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
   double model_age_s = -1.0;   // age of the model used; -1: none yet
   double round_trip_s = -1.0;  // this tick's new model echoes a remembered pose: its round trip; else -1

@@ -1,9 +1,10 @@
 // The bridge's 1 kHz servo loop: one ServoChannel (read the device, evaluate
 // the newest local force model, ForceSafety, command the device) on a
-// DeadlineTicker, handing each pose to the DDS thread. No DDS call, lock,
-// allocation or I/O happens inside a tick: poses and models cross through
-// latest-value mailboxes, and the trace is a buffer reserved before the loop
-// starts and written after it ends.
+// DeadlineTicker - or, for a device whose driver runs its own servo
+// scheduler, on that scheduler's ticks - handing each pose to the DDS
+// thread. No DDS call, lock, allocation or I/O happens inside a tick: poses
+// and models cross through latest-value mailboxes, and the trace is a
+// buffer reserved before the loop starts and written after it ends.
 #pragma once
 #include <atomic>
 #include <cstdint>
@@ -18,7 +19,7 @@ namespace hapsim::bridge {
 struct ServoConfig {
   std::uint32_t device_id = 1;
   std::string session = "demo";
-  double rate_hz = 1000.0;
+  double rate_hz = 1000.0;         // own-servo devices: their scheduler's rate (the chain's dt)
   double run_seconds = 0.0;        // 0: until stop is set
   SafetyConfig safety;
   std::size_t trace_capacity = 0;  // rows of trace to keep (0: none)
@@ -40,7 +41,7 @@ struct TraceRow {
 
 struct ServoReport {
   double elapsed_s = 0.0;
-  common::Percentiles period_error_s;  // |actual period - nominal|
+  common::Percentiles period_error_s;  // |actual period - nominal| (own-servo devices: between successive ticks' t)
   common::Percentiles model_age_s;     // age of the model used, per tick
   common::Percentiles round_trip_s;    // pose sent -> model echoing it received
   ChannelCounters channel;              // ticks, models taken, echoed seqs, force peaks
@@ -53,10 +54,17 @@ class ServoLoop {
  public:
   ServoLoop(HapticDevice* device, ServoConfig config, common::LatestValue<SensedPose>* pose_out,
             common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io);
-  // Runs on the calling thread until stop, run_seconds, or the script ends.
+  // Runs on the calling thread (or, for a device that RunsOwnServo, on
+  // the thread its driver calls back on) until stop, run_seconds, or the
+  // script ends.
   ServoReport Run(const std::atomic<bool>& stop);
 
  private:
+  // One tick at time t [s]; false ends the run.
+  bool Tick(ServoChannel& channel, double t_s, const std::atomic<bool>& stop, ServoReport* report);
+  void RunOnTicker(ServoChannel& channel, const std::atomic<bool>& stop, ServoReport* report);
+  void RunOnDeviceServo(ServoChannel& channel, const std::atomic<bool>& stop, ServoReport* report);
+
   HapticDevice* device_;
   ServoConfig config_;
   common::LatestValue<SensedPose>* pose_out_;

@@ -1,0 +1,46 @@
+// Time-domain passivity observer and controller (Hannaford & Ryu 2002) on
+// the force rendered at the stylus.
+//
+// Observer, with the sign chosen so that E is the energy the virtual
+// environment has absorbed from the hand:
+//   E_n = E_{n-1} - F_n · v_n dt
+// F the force on the stylus [N], v its velocity [m/s]. Pressing into a
+// spring (F against v) raises E; the spring pushing back out lowers it by
+// at most what it took. E < 0: the rendering has given the hand energy it
+// never received - it is active (delay, a model that moves under the hand,
+// a sampled stiff wall) and can build up to a kick or an oscillation.
+//
+// Controller: when this tick's force would take E below zero, it adds
+// damping -alpha v with alpha = -E/(|v|^2 dt), which dissipates exactly the
+// deficit (E ends at 0). alpha is capped at the device's largest stable
+// damping; a capped tick leaves E negative and the next ticks keep damping
+// until it is paid back. With the stylus still nothing can be done (and
+// nothing is being done to the hand).
+//
+// The observer integrates the force actually commanded, after every later
+// stage of the chain. Those only scale the force by a factor in [0, 1],
+// which can only raise E on a tick where it was to fall, so E >= 0 holds
+// whenever alpha was not capped.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace hapsim::bridge {
+
+class PassivityController {
+ public:
+  enum class Action { kNone, kCorrected, kCapped };
+
+  explicit PassivityController(double max_damping_Ns_per_m) : max_damping_Ns_per_m_(max_damping_Ns_per_m) {}
+  // Adds the damping this tick's force needs to keep E >= 0 (in place).
+  Action Control(Eigen::Vector3d& f_W_N, const Eigen::Vector3d& v_W_m_per_s, double dt_s) const;
+  // Integrates the force commanded this tick.
+  void Observe(const Eigen::Vector3d& commanded_W_N, const Eigen::Vector3d& v_W_m_per_s, double dt_s);
+  double energy_J() const { return energy_J_; }
+
+ private:
+  double max_damping_Ns_per_m_;
+  double energy_J_ = 0.0;  // absorbed by the environment since the start [J]
+};
+
+}  // namespace hapsim::bridge

@@ -1,0 +1,25 @@
+#include "hapsim/servo/passivity.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hapsim::bridge {
+
+PassivityController::Action PassivityController::Control(Eigen::Vector3d& f, const Eigen::Vector3d& v,
+                                                         double dt_s) const {
+  const double speed_sq = v.squaredNorm();
+  if (!(speed_sq > 0.0) || !v.allFinite()) return Action::kNone;  // still (or no velocity): nothing to damp
+  const double energy_after_J = energy_J_ - f.dot(v) * dt_s;
+  if (!(energy_after_J < 0.0)) return Action::kNone;
+  const double needed_Ns_per_m = -energy_after_J / (speed_sq * dt_s);
+  const double alpha_Ns_per_m = std::min(needed_Ns_per_m, max_damping_Ns_per_m_);
+  f -= alpha_Ns_per_m * v;
+  return alpha_Ns_per_m < needed_Ns_per_m ? Action::kCapped : Action::kCorrected;
+}
+
+void PassivityController::Observe(const Eigen::Vector3d& commanded, const Eigen::Vector3d& v, double dt_s) {
+  const double absorbed_J = -commanded.dot(v) * dt_s;
+  if (std::isfinite(absorbed_J)) energy_J_ += absorbed_J;  // a NaN velocity must not poison E for good
+}
+
+}  // namespace hapsim::bridge
