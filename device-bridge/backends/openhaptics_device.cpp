@@ -181,36 +181,12 @@ HDCallbackCode OpenHapticsDevice::ServoCallback(void* self) {
 HDCallbackCode OpenHapticsDevice::ServoTick() {
   const std::int64_t now_ns = common::SteadyNowNs();
   hd_->hdBeginFrame(device_);
-  HDdouble transform[16], velocity[3];
-  HDint buttons = 0;
-  hd_->hdGetDoublev(hd::kCurrentTransform, transform);
-  hd_->hdGetDoublev(hd::kCurrentVelocity, velocity);
-  hd_->hdGetIntegerv(hd::kCurrentButtons, &buttons);
-  if (const std::string error = TakeError(); !error.empty()) {
+  if (const std::string error = ReadStylus(); !error.empty()) {
     EndFrameWithForce(Eigen::Vector3d::Zero());
     Fail("the haptic device failed while reading the stylus: " + error);
     return hd::kCallbackDone;
   }
-  const Eigen::Map<const Eigen::Matrix4d> T_D(transform);  // column-major, like Eigen
-  reading_.tip_W_m = config_.workspace.Position_W_m(T_D.block<3, 1>(0, 3));
-  reading_.orientation_W = config_.workspace.Orientation_W(T_D.block<3, 3>(0, 0));
-  reading_.velocity_W_m_per_s =
-      config_.workspace.Velocity_W_m_per_s(Eigen::Vector3d(velocity[0], velocity[1], velocity[2]));
-  reading_.buttons = static_cast<std::uint32_t>(buttons);
-
-  // A stalled scheduler: the first tick after it commands zero, then ramps.
-  const std::int64_t last_ns = last_tick_ns_.load(std::memory_order_relaxed);
-  if (last_ns != 0) {
-    const double gap_s = static_cast<double>(now_ns - last_ns) * 1e-9;
-    if (gap_s > longest_gap_s_.load(std::memory_order_relaxed)) longest_gap_s_.store(gap_s, std::memory_order_relaxed);
-    if (gap_s > config_.stall_timeout_s) {
-      stalls_.fetch_add(1, std::memory_order_relaxed);
-      resume_scale_ = 0.0;
-    } else if (resume_scale_ < 1.0) {
-      resume_scale_ = config_.resume_ramp_s > 0.0 ? std::min(1.0, resume_scale_ + gap_s / config_.resume_ramp_s) : 1.0;
-    }
-  }
-  last_tick_ns_.store(now_ns, std::memory_order_relaxed);
+  TrackSchedulerGap(now_ns);
   const bool go = !stop_->load(std::memory_order_relaxed) &&
                   (*tick_)(static_cast<double>(now_ns - start_ns_) * 1e-9);  // Read + CommandForce
   ticks_.fetch_add(1, std::memory_order_relaxed);
@@ -231,6 +207,38 @@ HDCallbackCode OpenHapticsDevice::ServoTick() {
     return hd::kCallbackDone;
   }
   return hd::kCallbackContinue;
+}
+
+std::string OpenHapticsDevice::ReadStylus() {
+  HDdouble transform[16], velocity[3];
+  HDint buttons = 0;
+  hd_->hdGetDoublev(hd::kCurrentTransform, transform);
+  hd_->hdGetDoublev(hd::kCurrentVelocity, velocity);
+  hd_->hdGetIntegerv(hd::kCurrentButtons, &buttons);
+  if (std::string error = TakeError(); !error.empty()) return error;
+  const Eigen::Map<const Eigen::Matrix4d> T_D(transform);  // column-major, like Eigen
+  reading_.tip_W_m = config_.workspace.Position_W_m(T_D.block<3, 1>(0, 3));
+  reading_.orientation_W = config_.workspace.Orientation_W(T_D.block<3, 3>(0, 0));
+  reading_.velocity_W_m_per_s =
+      config_.workspace.Velocity_W_m_per_s(Eigen::Vector3d(velocity[0], velocity[1], velocity[2]));
+  reading_.buttons = static_cast<std::uint32_t>(buttons);
+  return {};
+}
+
+// A stalled scheduler: the first tick after it commands zero, then ramps.
+void OpenHapticsDevice::TrackSchedulerGap(std::int64_t now_ns) {
+  const std::int64_t last_ns = last_tick_ns_.load(std::memory_order_relaxed);
+  if (last_ns != 0) {
+    const double gap_s = static_cast<double>(now_ns - last_ns) * 1e-9;
+    if (gap_s > longest_gap_s_.load(std::memory_order_relaxed)) longest_gap_s_.store(gap_s, std::memory_order_relaxed);
+    if (gap_s > config_.stall_timeout_s) {
+      stalls_.fetch_add(1, std::memory_order_relaxed);
+      resume_scale_ = 0.0;
+    } else if (resume_scale_ < 1.0) {
+      resume_scale_ = config_.resume_ramp_s > 0.0 ? std::min(1.0, resume_scale_ + gap_s / config_.resume_ramp_s) : 1.0;
+    }
+  }
+  last_tick_ns_.store(now_ns, std::memory_order_relaxed);
 }
 
 void OpenHapticsDevice::EndFrameWithForce(const Eigen::Vector3d& force_D_N) {

@@ -73,6 +73,8 @@ class OpenHapticsDevice final : public HapticDevice {
   static HDCallbackCode ServoCallback(void* self);
   static HDCallbackCode CalibrationCallback(void* self);
   HDCallbackCode ServoTick();
+  std::string ReadStylus();  // into reading_; the HD error, if any
+  void TrackSchedulerGap(std::int64_t now_ns);
   void Open();
   void Close();  // stops the scheduler, disables force output and the device
   void Calibrate();
