@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "backends/openhaptics_device.h"
 #include "backends/replay_device.h"
@@ -24,7 +25,7 @@
 namespace {
 
 void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device, const std::string& session,
-                 const hapsim::bridge::BridgeDds& dds) {
+                 const hapsim::bridge::BridgeDds& dds, std::size_t i) {
   using hapsim::common::FormatPercentiles;
   using ull = unsigned long long;
   const hapsim::bridge::ChannelCounters& c = r.channel;
@@ -33,15 +34,16 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
               r.elapsed_s > 0 ? static_cast<double>(c.ticks) / r.elapsed_s : 0.0, r.elapsed_s, static_cast<ull>(c.ticks));
   std::printf("bridge: period jitter %s\n", FormatPercentiles(r.period_error_s, 1e3, "ms").c_str());
   std::printf("bridge: poses sent %llu; force models received %llu (echoed pose seq %llu -> %llu, regressions %llu)\n",
-              static_cast<ull>(dds.poses_written()), static_cast<ull>(c.models_taken), static_cast<ull>(c.first_echo_seq),
-              static_cast<ull>(c.last_echo_seq), static_cast<ull>(c.echo_regressions));
+              static_cast<ull>(dds.poses_written(i)), static_cast<ull>(c.models_taken),
+              static_cast<ull>(c.first_echo_seq), static_cast<ull>(c.last_echo_seq),
+              static_cast<ull>(c.echo_regressions));
   std::printf("bridge: DDS partition %s; models for other sessions or devices %llu (expected 0)\n",
               hapsim::dds::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
   std::printf(
       "bridge: following server %016llx; models from another server dropped %llu (expected 0), "
       "server switches %llu\n",
-      static_cast<ull>(dds.followed_server()), static_cast<ull>(dds.models_from_other_servers()),
-      static_cast<ull>(dds.server_switches()));
+      static_cast<ull>(dds.followed_server(i)), static_cast<ull>(dds.models_from_other_servers(i)),
+      static_cast<ull>(dds.server_switches(i)));
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,
@@ -98,6 +100,7 @@ struct OpenHapticsFlags {
 // The flags of hapsim-bridge.
 struct BridgeFlags {
   std::string session = "demo", backend = "synthetic", replay_file, trace_file;
+  std::vector<std::string> devices;  // --device SESSION[:HD_DEVICE], repeated
   OpenHapticsFlags openhaptics;
   int device_id = 1;
   double seconds = 0.0, rate_hz = 1000.0;
@@ -110,7 +113,11 @@ struct BridgeFlags {
 // In the order --help lists them.
 void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
   flags.Add("session", &f->session, "session id to drive");
-  flags.Add("device-id", &f->device_id, "device id (unique per device on the DDS domain)");
+  flags.Add("device-id", &f->device_id,
+            "device id (unique per device on the DDS domain; the next ones for more devices)");
+  flags.AddList("device", &f->devices,
+                "a device and the session it drives, SESSION[:HD_DEVICE] (repeat for several devices: one servo "
+                "thread each, one DDS participant; replaces --session)");
   flags.Add("backend", &f->backend, "synthetic, replay or openhaptics");
   hapsim::bridge::AddScriptFlags(flags, &f->script, "synthetic random_walk: seed");
   flags.Add("replay-file", &f->replay_file, "replay: pose log CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,...)");
@@ -121,6 +128,32 @@ void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
   flags.Add("trace", &f->trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
   hapsim::bridge::AddProcessFlags(flags, &f->process);
+}
+
+// One device the bridge drives: its session and, for openhaptics, the HD
+// device configuration name (empty: --hd-device).
+struct DeviceSpec {
+  std::string session, hd_device;
+};
+
+// --device SESSION[:HD_DEVICE]..., or the one --session. Throws
+// std::invalid_argument naming a bad or repeated session.
+std::vector<DeviceSpec> DeviceSpecs(const BridgeFlags& f) {
+  std::vector<DeviceSpec> specs;
+  for (const std::string& d : f.devices) {
+    const std::size_t colon = d.find(':');
+    DeviceSpec spec{d.substr(0, colon), colon == std::string::npos ? "" : d.substr(colon + 1)};
+    if (!hapsim::common::IsValidSessionId(spec.session)) {
+      throw std::invalid_argument("--device '" + d.substr(0, 80) + "': the session must be [A-Za-z0-9_-]{1,63}");
+    }
+    for (const DeviceSpec& other : specs) {
+      if (other.session == spec.session) throw std::invalid_argument("--device: session '" + spec.session + "' twice");
+    }
+    specs.push_back(spec);
+  }
+  if (specs.size() > 16) throw std::invalid_argument("--device: at most 16 devices per bridge");
+  if (specs.empty()) specs.push_back({f.session, ""});
+  return specs;
 }
 
 // False (after saying which) if a flag is out of its range.
@@ -142,15 +175,15 @@ bool BridgeFlagsInRange(const BridgeFlags& f) {
 // Flags that are wrong together or out of range in the script or safety
 // settings: false (after saying which), so main exits 2 like any bad flag (a
 // replay file that cannot be read is a runtime error, exit 1, in RunBridge).
-// The synthetic device is made here; *device stays empty for a replay or a
-// real device (opened in RunBridge: a device that cannot start is a runtime
-// error).
+// Devices are opened in RunBridge (a replay file or a device that cannot
+// start is a runtime error); their flags are checked here.
 bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_config,
-                     std::unique_ptr<hapsim::bridge::HapticDevice>* device) {
+                     std::vector<DeviceSpec>* specs) {
   try {
     *safety_config = f.safety.ToConfig();
+    *specs = DeviceSpecs(f);
     if (f.backend == "synthetic") {
-      *device = std::make_unique<hapsim::bridge::SyntheticDevice>(f.script.ToScript());
+      (void)hapsim::bridge::SyntheticDevice(f.script.ToScript());  // throws on a bad script
     } else if (f.backend == "replay") {
       if (f.replay_file.empty()) throw std::invalid_argument("--backend replay needs --replay-file");
     } else if (f.backend == "openhaptics") {
@@ -165,70 +198,103 @@ bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_
   return true;
 }
 
+// Device i of the bridge: its own backend instance.
+std::unique_ptr<hapsim::bridge::HapticDevice> OpenDevice(const BridgeFlags& f, const DeviceSpec& spec) {
+  if (f.backend == "synthetic") return std::make_unique<hapsim::bridge::SyntheticDevice>(f.script.ToScript());
+  if (f.backend == "openhaptics") {
+    hapsim::bridge::OpenHapticsConfig config = f.openhaptics.ToConfig();
+    if (!spec.hd_device.empty()) config.device_name = spec.hd_device;
+    return std::make_unique<hapsim::bridge::OpenHapticsDevice>(config);
+  }
+  return std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(f.replay_file));
+}
+
 hapsim::bridge::ServoConfig MakeBridgeServoConfig(const BridgeFlags& f,
-                                                  const hapsim::bridge::SafetyConfig& safety_config) {
+                                                  const hapsim::bridge::SafetyConfig& safety_config, std::size_t i,
+                                                  const std::string& session) {
   hapsim::bridge::ServoConfig servo_config;
-  servo_config.device_id = static_cast<std::uint32_t>(f.device_id);
-  servo_config.session = f.session;
+  servo_config.device_id = static_cast<std::uint32_t>(f.device_id) + static_cast<std::uint32_t>(i);
+  servo_config.session = session;
   servo_config.rate_hz = f.rate_hz;
   servo_config.run_seconds = f.seconds;
   servo_config.safety = safety_config;
   servo_config.stop_when_script_finishes = !f.keep_running;
-  servo_config.trace_capacity = f.trace_file.empty() ? 0 : static_cast<std::size_t>(f.rate_hz * 600.0);
+  // The trace is the first device's.
+  servo_config.trace_capacity = f.trace_file.empty() || i > 0 ? 0 : static_cast<std::size_t>(f.rate_hz * 600.0);
   return servo_config;
 }
 
-// The servo loop until the script ends, --seconds pass or a signal comes;
-// the process's exit code.
-int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
-              std::unique_ptr<hapsim::bridge::HapticDevice> device) {
-  try {
-    if (!device && f.backend == "openhaptics") {
-      device = std::make_unique<hapsim::bridge::OpenHapticsDevice>(f.openhaptics.ToConfig());
-    }
-    if (!device) device = std::make_unique<hapsim::bridge::ReplayDevice>(hapsim::bridge::LoadPoseLog(f.replay_file));
+// Device i's summary (and, for a real device, its scheduler's); false if
+// the device faulted.
+bool ReportDevice(const hapsim::bridge::ServoReport& report, const hapsim::bridge::HapticDevice& device,
+                  const std::string& session, const hapsim::bridge::BridgeDds& dds, std::size_t i) {
+  PrintReport(report, device.Name(), session, dds, i);
+  const auto* hd = dynamic_cast<const hapsim::bridge::OpenHapticsDevice*>(&device);
+  if (!hd) return true;
+  const hapsim::bridge::OpenHapticsCounters c = hd->counters();
+  std::printf("bridge: device scheduler %llu ticks, stalls %llu, longest gap %.1f ms, motor temperature %s\n",
+              static_cast<unsigned long long>(c.ticks), static_cast<unsigned long long>(c.stalls),
+              c.longest_gap_s * 1e3,
+              c.max_motor_temperature < 0 ? "not reported" : std::to_string(c.max_motor_temperature).c_str());
+  std::fflush(stdout);
+  if (hd->fault().empty()) return true;
+  std::fprintf(stderr, "hapsim-bridge: device fault on '%s', force output stopped at zero: %s\n", session.c_str(),
+               hd->fault().c_str());
+  return false;
+}
 
-    hapsim::bridge::BridgeDds dds(f.process.Dds(), static_cast<std::uint32_t>(f.device_id), f.session);
+// Every device's servo loop (one thread each; the first on this one) until
+// the scripts end, --seconds pass or a signal comes; the process's exit code.
+int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
+              const std::vector<DeviceSpec>& specs) {
+  try {
+    std::vector<std::unique_ptr<hapsim::bridge::HapticDevice>> devices;
+    std::vector<std::string> sessions;
+    for (const DeviceSpec& spec : specs) {
+      devices.push_back(OpenDevice(f, spec));
+      sessions.push_back(spec.session);
+    }
+    hapsim::bridge::BridgeDds dds(f.process.Dds(), static_cast<std::uint32_t>(f.device_id), sessions);
     spdlog::info("DDS domain {} with config: {}", f.process.dds_domain, dds.config_origin());
     dds.Start();
 
-    hapsim::bridge::ServoLoop servo(device.get(), MakeBridgeServoConfig(f, safety_config), &dds.pose_outbox(),
-                                    &dds.model_inbox(), [&dds] { dds.Wake(); });
-
+    std::vector<hapsim::bridge::ServoLoop> loops;
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+      loops.emplace_back(devices[i].get(), MakeBridgeServoConfig(f, safety_config, i, sessions[i]), &dds.pose_outbox(i),
+                         &dds.model_inbox(i), [&dds] { dds.Wake(); });
+      spdlog::info("servo loop at {} Hz on device {} (id {}) for session '{}'", f.rate_hz, devices[i]->Name(),
+                   f.device_id + static_cast<int>(i), sessions[i]);
+    }
     std::atomic<bool> stop{false};
-    hapsim::bridge::ServoReport report;
+    std::vector<hapsim::bridge::ServoReport> reports(devices.size());
     {
       hapsim::bridge::StopOnSignal stop_on_signal(&stop);
-      spdlog::info("servo loop at {} Hz on device {} for session '{}'", f.rate_hz, device->Name(), f.session);
-      report = servo.Run(stop);
-      device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
+      std::vector<std::thread> others;
+      for (std::size_t i = 1; i < loops.size(); ++i) {
+        others.emplace_back([&, i] { reports[i] = loops[i].Run(stop); });
+      }
+      reports[0] = loops[0].Run(stop);
+      for (std::thread& t : others) t.join();
+      for (auto& device : devices) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
     }
-    if (dds.matched_servers() == 0) {
-      spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
-                   f.session, hapsim::dds::SessionPartition(f.session));
-    }
-    dds.Stop();
-    if (!f.trace_file.empty() && !hapsim::bridge::WriteTraceCsv(f.trace_file, report.trace)) {
-      spdlog::error("cannot write trace to {}", f.trace_file);
-    }
-    PrintReport(report, device->Name(), f.session, dds);
-    if (const auto* hd = dynamic_cast<const hapsim::bridge::OpenHapticsDevice*>(device.get())) {
-      const hapsim::bridge::OpenHapticsCounters c = hd->counters();
-      std::printf("bridge: device scheduler %llu ticks, stalls %llu, longest gap %.1f ms, motor temperature %s\n",
-                  static_cast<unsigned long long>(c.ticks), static_cast<unsigned long long>(c.stalls),
-                  c.longest_gap_s * 1e3,
-                  c.max_motor_temperature < 0 ? "not reported" : std::to_string(c.max_motor_temperature).c_str());
-      std::fflush(stdout);
-      if (!hd->fault().empty()) {
-        std::fprintf(stderr, "hapsim-bridge: device fault, force output stopped at zero: %s\n", hd->fault().c_str());
-        return 1;
+    for (std::size_t i = 0; i < sessions.size(); ++i) {
+      if (dds.matched_servers(i) == 0) {
+        spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
+                     sessions[i], hapsim::dds::SessionPartition(sessions[i]));
       }
     }
+    dds.Stop();
+    if (!f.trace_file.empty() && !hapsim::bridge::WriteTraceCsv(f.trace_file, reports[0].trace)) {
+      spdlog::error("cannot write trace to {}", f.trace_file);
+    }
+    bool healthy = true;
+    for (std::size_t i = 0; i < devices.size(); ++i)
+      healthy &= ReportDevice(reports[i], *devices[i], sessions[i], dds, i);
+    return healthy ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
     return 1;
   }
-  return 0;
 }
 
 }  // namespace
@@ -248,7 +314,7 @@ int main(int argc, char** argv) {
   if (parse_exit >= 0) return parse_exit;
   if (!BridgeFlagsInRange(f)) return 2;
   hapsim::bridge::SafetyConfig safety_config;
-  std::unique_ptr<hapsim::bridge::HapticDevice> device;
-  if (!ConfigureBridge(f, &safety_config, &device)) return 2;
-  return RunBridge(f, safety_config, std::move(device));
+  std::vector<DeviceSpec> specs;
+  if (!ConfigureBridge(f, &safety_config, &specs)) return 2;
+  return RunBridge(f, safety_config, specs);
 }

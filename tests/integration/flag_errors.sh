@@ -67,6 +67,14 @@ expect 2 "--session must be within \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-bridge" -
 expect 2 "is not \[A-Za-z0-9_-\]{1,63}" "$bin/hapsim-load" --sessions "a b"
 expect 2 "--params wants KEY=NUMBER" "$bin/hapsim-load" --create tissue_block --params stiffness
 expect 2 "unknown backend 'phantom'" "$bin/hapsim-bridge" --backend phantom
+# Several devices: each --device names a valid, distinct session; the OpenHaptics flags are checked before any device opens.
+expect 2 "--device 'a b': the session must be" "$bin/hapsim-bridge" --device "a b"
+expect 2 "--device: session 't1' twice" "$bin/hapsim-bridge" --device t1 --device t1:Left
+expect 2 "--workspace-scale must be in (0, 100\]" "$bin/hapsim-bridge" --backend openhaptics --workspace-scale 0
+expect 2 "--arm-button must be 0 (none) or 1-4" "$bin/hapsim-bridge" --arm-button 9
+# A missing OpenHaptics runtime is a runtime error naming the library.
+expect 1 "cannot load the OpenHaptics HD library '/nonexistent/libHD.so'" "$bin/hapsim-bridge" --backend openhaptics \
+    --hd-library /nonexistent/libHD.so
 # Classroom: a broken class config or TLS setup stops the server at
 # start, naming the file and place; clients name unreadable token/TLS files.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
