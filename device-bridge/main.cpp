@@ -54,13 +54,14 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
               static_cast<ull>(r.safety.non_finite), static_cast<ull>(r.safety.disarms),
               hapsim::bridge::ToString(r.final_watchdog), static_cast<ull>(r.safety.warnings),
               static_cast<ull>(r.safety.fades));
-  std::printf("bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
-              "%llu, passivity corrected %llu (uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
-              static_cast<ull>(r.safety.models_capped), static_cast<ull>(r.safety.model_jumps),
-              static_cast<ull>(r.safety.jump_steps_limited), static_cast<ull>(r.safety.velocity_limited),
-              static_cast<ull>(r.safety.passivity_corrected), static_cast<ull>(r.safety.passivity_uncorrected),
-              static_cast<ull>(r.safety.ramp_limited), static_cast<ull>(r.safety.derated),
-              static_cast<ull>(r.safety.arm_toggles));
+  std::printf(
+      "bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
+      "%llu, passivity corrected %llu (bounded %llu, uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
+      static_cast<ull>(r.safety.models_capped), static_cast<ull>(r.safety.model_jumps),
+      static_cast<ull>(r.safety.jump_steps_limited), static_cast<ull>(r.safety.velocity_limited),
+      static_cast<ull>(r.safety.passivity_corrected), static_cast<ull>(r.safety.passivity_bounded),
+      static_cast<ull>(r.safety.passivity_uncorrected), static_cast<ull>(r.safety.ramp_limited),
+      static_cast<ull>(r.safety.derated), static_cast<ull>(r.safety.arm_toggles));
   std::fflush(stdout);
 }
 
@@ -103,7 +104,7 @@ struct BridgeFlags {
   std::vector<std::string> devices;  // --device SESSION[:HD_DEVICE], repeated
   OpenHapticsFlags openhaptics;
   int device_id = 1;
-  double seconds = 0.0, rate_hz = 1000.0;
+  double seconds = 0.0, rate_hz = 1000.0, model_delay_ms = 0.0;
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
@@ -125,6 +126,8 @@ void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
   flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
   flags.Add("keep-running", &f->keep_running, "keep running after a finite script or replay ends");
   flags.Add("rate-hz", &f->rate_hz, "servo loop rate [Hz]");
+  flags.Add("model-delay-ms", &f->model_delay_ms,
+            "measurement: hold every force model this long before the servo sees it, as a longer link would [ms]");
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
   flags.Add("trace", &f->trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
   hapsim::bridge::AddProcessFlags(flags, &f->process);
@@ -163,6 +166,7 @@ bool BridgeFlagsInRange(const BridgeFlags& f) {
       {f.seconds >= 0.0 && f.seconds <= hapsim::common::kMaxFlagSeconds, "--seconds",
        hapsim::common::kMaxFlagSecondsRange},
       {f.device_id >= 0, "--device-id", ">= 0"},
+      {f.model_delay_ms >= 0.0 && f.model_delay_ms <= 1000.0, "--model-delay-ms", "[0, 1000]"},
       {hapsim::common::IsValidSessionId(f.session), "--session", "[A-Za-z0-9_-]{1,63}"},
   });
   if (!out_of_range.empty()) {
@@ -218,6 +222,7 @@ hapsim::bridge::ServoConfig MakeBridgeServoConfig(const BridgeFlags& f,
   servo_config.rate_hz = f.rate_hz;
   servo_config.run_seconds = f.seconds;
   servo_config.safety = safety_config;
+  servo_config.model_delay_s = f.model_delay_ms * 1e-3;
   servo_config.stop_when_script_finishes = !f.keep_running;
   // The trace is the first device's.
   servo_config.trace_capacity = f.trace_file.empty() || i > 0 ? 0 : static_cast<std::size_t>(f.rate_hz * 600.0);

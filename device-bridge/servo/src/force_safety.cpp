@@ -78,7 +78,10 @@ Eigen::Vector3d ForceSafety::Apply(const SafetyInput& in) {
   f *= watchdog;                                   // 6. watchdog
   if (!arming_.armed()) f.setZero();               // 7. arm button
   LimitRise(f, in.dt_s);                           // 8. rise-rate limit (decreases pass at once)
-  passivity_.Observe(f, v, in.dt_s);               // the observer integrates what is commanded
+  const double energy_before_J = passivity_.energy_J();
+  passivity_.Observe(f, v, in.dt_s);  // the observer integrates what is commanded
+  // A violation left uncorrected: the rendering gave energy it never received.
+  if (passivity_.energy_J() < 0.0 && passivity_.energy_J() < energy_before_J) ++counters_.passivity_uncorrected;
   last_W_N_ = f;
   return f;
 }
@@ -113,8 +116,8 @@ void ForceSafety::ControlPassivity(Eigen::Vector3d& f, const Eigen::Vector3d& v,
     case PassivityController::Action::kCorrected:
       ++counters_.passivity_corrected;
       break;
-    case PassivityController::Action::kCapped:
-      ++counters_.passivity_uncorrected;
+    case PassivityController::Action::kBounded:
+      ++counters_.passivity_bounded;
       break;
   }
 }

@@ -12,9 +12,17 @@ PassivityController::Action PassivityController::Control(Eigen::Vector3d& f, con
   const double energy_after_J = energy_J_ - f.dot(v) * dt_s;
   if (!(energy_after_J < 0.0)) return Action::kNone;
   const double needed_Ns_per_m = -energy_after_J / (speed_sq * dt_s);
-  const double alpha_Ns_per_m = std::min(needed_Ns_per_m, max_damping_Ns_per_m_);
-  f -= alpha_Ns_per_m * v;
-  return alpha_Ns_per_m < needed_Ns_per_m ? Action::kCapped : Action::kCorrected;
+  if (needed_Ns_per_m <= max_damping_Ns_per_m_) {
+    f -= needed_Ns_per_m * v;
+    return Action::kCorrected;
+  }
+  // The device cannot damp the deficit away this tick: the part of the force
+  // that pushes along the motion (what gives the hand energy) goes too, so
+  // the rendering only dissipates until E is paid back.
+  const double along_Ns_per_m = f.dot(v) / speed_sq;
+  if (along_Ns_per_m > 0.0) f -= along_Ns_per_m * v;
+  f -= max_damping_Ns_per_m_ * v;
+  return Action::kBounded;
 }
 
 void PassivityController::Observe(const Eigen::Vector3d& commanded, const Eigen::Vector3d& v, double dt_s) {

@@ -12,6 +12,7 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
       period_s_(config.period_s),
       safety_(config.safety, device->Limits()),
       warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
+      delay_(config.model_delay_s),
       round_trip_s_(config.stats_window),
       model_age_s_(config.stats_window) {
   pose_.device_id = config.device_id;
@@ -38,7 +39,7 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
 void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   tick_.round_trip_s = -1.0;
   ReceivedModel incoming;
-  if (!inbox.TakeIfNew(&incoming)) return;
+  if (!(delay_.enabled() ? delay_.Take(inbox, sensed_ns_, &incoming) : inbox.TakeIfNew(&incoming))) return;
   const std::uint64_t echo = incoming.echo_pose_seq;
   // A model computed from an older pose than the held one was overtaken in
   // transit: it describes where the tool was, so it is discarded. Only while

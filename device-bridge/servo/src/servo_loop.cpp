@@ -23,6 +23,7 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
   channel_config.device_id = config_.device_id;
   channel_config.period_s = 1.0 / config_.rate_hz;
   channel_config.safety = config_.safety;
+  channel_config.model_delay_s = config_.model_delay_s;
   ServoChannel channel(device_, channel_config);
   if (device_->RunsOwnServo()) {
     RunOnDeviceServo(channel, stop, &report);

@@ -176,7 +176,7 @@ TEST_F(FakeHdTest, AStalledSchedulerIsCountedAndTheForceResumesFromZero) {
     Run(device, 400, Eigen::Vector3d(0, 0, 1.0));
     counters = device.counters();
   }
-  EXPECT_EQ(counters.stalls, 1u);
+  EXPECT_GE(counters.stalls, 1u);  // the injected one (a loaded machine may add its own)
   EXPECT_GE(counters.longest_gap_s, 0.040);
   const auto frames = Frames();
   std::size_t resumed = 0;
@@ -186,10 +186,11 @@ TEST_F(FakeHdTest, AStalledSchedulerIsCountedAndTheForceResumesFromZero) {
   ASSERT_GT(resumed, 0u);
   EXPECT_EQ(frames[resumed].fy, 0.0);       // the first frame after the stall: zero
   EXPECT_GT(frames[resumed - 1].fy, 0.99);  // before it: the full 1 N (F_D y = F_W z)
-  // Then linearly back over 0.5 s of wall time: 100 frames later 100 ms / 500 ms of the force
-  // (±3 ms of scheduler jitter over those 100 frames: ±0.006 N), never more.
+  // Then back over 0.5 s of wall time, never in a step: 100 frames later about 100 ms / 500 ms of
+  // the force (0.2 N at an exact 1 kHz; the bounds allow a loaded machine's late ticks).
   ASSERT_GT(frames.size(), resumed + 100);
-  EXPECT_NEAR(frames[resumed + 100].fy, 0.2, 0.006);
+  EXPECT_GT(frames[resumed + 100].fy, 0.15);
+  EXPECT_LT(frames[resumed + 100].fy, 0.35);
   for (std::size_t i = resumed + 1; i < resumed + 100; ++i) EXPECT_GE(frames[i].fy, frames[i - 1].fy) << i;
 }
 

@@ -8,8 +8,9 @@
 //     any force then feeds the motion. Early, so no later stage acts on a
 //     force that will not be sent;
 //  3. passivity controller (passivity.h): damping added when the rendering
-//     would give the hand energy it never received. Before the clamp, so
-//     the damping it adds is clamped like any other force;
+//     would give the hand energy it never received (and, past the damping
+//     cap, the force along the motion removed). Before the clamp, so the
+//     damping it adds is clamped like any other force;
 //  4. magnitude clamp to the lower of max_force_N and the device's peak
 //     (Omni: 3.3 N, default 2.5), rising linearly from 0 over ramp_in_s
 //     after each arming (arming.h);
@@ -59,7 +60,8 @@ struct SafetyCounters {
   std::uint64_t disarms = 0;      // times the watchdog disarmed
   std::uint64_t velocity_limited = 0;       // ticks zeroed: stylus faster than max_velocity
   std::uint64_t passivity_corrected = 0;    // ticks the passivity controller damped, E back to 0
-  std::uint64_t passivity_uncorrected = 0;  // ticks its damping hit the cap: E left negative
+  std::uint64_t passivity_bounded = 0;      // ticks its damping hit the cap: force along the motion removed too
+  std::uint64_t passivity_uncorrected = 0;  // ticks E fell below zero all the same (must stay 0)
   std::uint64_t ramp_limited = 0;           // ticks cut by the clamp while it ramped in after arming
   std::uint64_t derated = 0;                // ticks derated by the continuous-force limit
   std::uint64_t arm_toggles = 0;            // arm-button presses (each toggles armed)

@@ -13,14 +13,17 @@
 // Controller: when this tick's force would take E below zero, it adds
 // damping -alpha v with alpha = -E/(|v|^2 dt), which dissipates exactly the
 // deficit (E ends at 0). alpha is capped at the device's largest stable
-// damping; a capped tick leaves E negative and the next ticks keep damping
-// until it is paid back. With the stylus still nothing can be done (and
+// damping; when the cap is not enough (a long link: models far behind the
+// hand), the force's component along the motion — the part that gives the
+// hand energy — is removed as well and the capped damping alone stays on
+// that axis, so E rises every such tick until it is paid back, and never
+// falls while negative. With the stylus still nothing can be done (and
 // nothing is being done to the hand).
 //
 // The observer integrates the force actually commanded, after every later
 // stage of the chain. Those only scale the force by a factor in [0, 1],
 // which can only raise E on a tick where it was to fall, so E >= 0 holds
-// whenever alpha was not capped.
+// whenever alpha was not capped, and E never falls below zero when it was.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,7 +32,7 @@ namespace hapsim::bridge {
 
 class PassivityController {
  public:
-  enum class Action { kNone, kCorrected, kCapped };
+  enum class Action { kNone, kCorrected, kBounded };
 
   explicit PassivityController(double max_damping_Ns_per_m) : max_damping_Ns_per_m_(max_damping_Ns_per_m) {}
   // Adds the damping this tick's force needs to keep E >= 0 (in place).

@@ -17,34 +17,19 @@
 #include "hapsim/common/latest_value.h"
 #include "hapsim/common/stats.h"
 #include "hapsim/core/haptics/local_force_model.h"
-#include "hapsim/core/scenes/scene.h"  // ToolInput
 #include "hapsim/servo/device.h"
 #include "hapsim/servo/force_safety.h"
+#include "hapsim/servo/model_delay.h"
+#include "hapsim/servo/servo_messages.h"
 
 namespace hapsim::bridge {
-
-// A force model as a DDS receive thread took it, unpacked.
-struct ReceivedModel {
-  core::LocalForceModel model;        // what to render until the next one
-  std::uint64_t seq = 0;              // the server's, +1 per model of the session
-  std::uint64_t echo_pose_seq = 0;    // seq of the pose the server stepped with
-  std::uint64_t server_instance = 0;  // which server sent it
-  std::int64_t received_ns = 0;       // this process's steady clock at arrival
-};
-
-// A pose as one servo tick sensed it, for the DDS side to send.
-struct SensedPose {
-  core::ToolInput tool;
-  std::uint32_t device_id = 0;
-  std::uint64_t seq = 0;         // +1 per tick of this device
-  std::int64_t t_device_ns = 0;  // this process's steady clock when sensed
-};
 
 struct ChannelConfig {
   std::uint32_t device_id = 1;
   double period_s = 0.001;             // servo period (the rise limit's dt)
   SafetyConfig safety;
   std::size_t stats_window = 1 << 17;  // recent samples kept for round-trip / model-age percentiles
+  double model_delay_s = 0.0;          // measurement aid: every model held this long first (ModelDelay)
 };
 
 // What the last tick did, for the caller's trace and pooled statistics.
@@ -104,6 +89,7 @@ class ServoChannel {
   std::array<std::int64_t, kSentRing> sent_ns_{};
   bool have_model_ = false;
   ReceivedModel model_;
+  ModelDelay delay_;
   ChannelTick tick_;
   ChannelCounters counters_;
   common::SampleWindow round_trip_s_, model_age_s_;

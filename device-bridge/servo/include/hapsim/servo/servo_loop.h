@@ -22,6 +22,7 @@ struct ServoConfig {
   double rate_hz = 1000.0;         // own-servo devices: their scheduler's rate (the chain's dt)
   double run_seconds = 0.0;        // 0: until stop is set
   SafetyConfig safety;
+  double model_delay_s = 0.0;      // measurement aid: see ModelDelay
   std::size_t trace_capacity = 0;  // rows of trace to keep (0: none)
   bool stop_when_script_finishes = true;
 };
