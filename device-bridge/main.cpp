@@ -24,6 +24,24 @@
 
 namespace {
 
+// The safety chain's counters of one device.
+void PrintSafety(const hapsim::bridge::SafetyCounters& s, hapsim::bridge::WatchdogState watchdog) {
+  using ull = unsigned long long;
+  std::printf(
+      "bridge: safety clamped %llu, rise-limited %llu, non-finite %llu, disarms %llu, watchdog %s "
+      "(warnings %llu, fades %llu)\n",
+      static_cast<ull>(s.clamped), static_cast<ull>(s.rate_limited), static_cast<ull>(s.non_finite),
+      static_cast<ull>(s.disarms), hapsim::bridge::ToString(watchdog), static_cast<ull>(s.warnings),
+      static_cast<ull>(s.fades));
+  std::printf(
+      "bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
+      "%llu, passivity corrected %llu (bounded %llu, uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
+      static_cast<ull>(s.models_capped), static_cast<ull>(s.model_jumps), static_cast<ull>(s.jump_steps_limited),
+      static_cast<ull>(s.velocity_limited), static_cast<ull>(s.passivity_corrected),
+      static_cast<ull>(s.passivity_bounded), static_cast<ull>(s.passivity_uncorrected),
+      static_cast<ull>(s.ramp_limited), static_cast<ull>(s.derated), static_cast<ull>(s.arm_toggles));
+}
+
 void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device, const std::string& session,
                  const hapsim::bridge::BridgeDds& dds, std::size_t i) {
   using hapsim::common::FormatPercentiles;
@@ -31,7 +49,8 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
   const hapsim::bridge::ChannelCounters& c = r.channel;
   std::printf("bridge: device %s, session %s\n", device.c_str(), session.c_str());
   std::printf("bridge: loop %.1f Hz over %.2f s (%llu ticks)\n",
-              r.elapsed_s > 0 ? static_cast<double>(c.ticks) / r.elapsed_s : 0.0, r.elapsed_s, static_cast<ull>(c.ticks));
+              r.elapsed_s > 0 ? static_cast<double>(c.ticks) / r.elapsed_s : 0.0, r.elapsed_s,
+              static_cast<ull>(c.ticks));
   std::printf("bridge: period jitter %s\n", FormatPercentiles(r.period_error_s, 1e3, "ms").c_str());
   std::printf("bridge: poses sent %llu; force models received %llu (echoed pose seq %llu -> %llu, regressions %llu)\n",
               static_cast<ull>(dds.poses_written(i)), static_cast<ull>(c.models_taken),
@@ -48,20 +67,7 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,
               c.peak_force_pressing_N, c.peak_force_withdrawn_N);
-  std::printf("bridge: safety clamped %llu, rise-limited %llu, non-finite %llu, disarms %llu, watchdog %s "
-              "(warnings %llu, fades %llu)\n",
-              static_cast<ull>(r.safety.clamped), static_cast<ull>(r.safety.rate_limited),
-              static_cast<ull>(r.safety.non_finite), static_cast<ull>(r.safety.disarms),
-              hapsim::bridge::ToString(r.final_watchdog), static_cast<ull>(r.safety.warnings),
-              static_cast<ull>(r.safety.fades));
-  std::printf(
-      "bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
-      "%llu, passivity corrected %llu (bounded %llu, uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
-      static_cast<ull>(r.safety.models_capped), static_cast<ull>(r.safety.model_jumps),
-      static_cast<ull>(r.safety.jump_steps_limited), static_cast<ull>(r.safety.velocity_limited),
-      static_cast<ull>(r.safety.passivity_corrected), static_cast<ull>(r.safety.passivity_bounded),
-      static_cast<ull>(r.safety.passivity_uncorrected), static_cast<ull>(r.safety.ramp_limited),
-      static_cast<ull>(r.safety.derated), static_cast<ull>(r.safety.arm_toggles));
+  PrintSafety(r.safety, r.final_watchdog);
   std::fflush(stdout);
 }
 
@@ -248,6 +254,34 @@ bool ReportDevice(const hapsim::bridge::ServoReport& report, const hapsim::bridg
   return false;
 }
 
+// One servo loop per device, the first on this thread, the others on their
+// own, until all have ended; their reports, in device order.
+std::vector<hapsim::bridge::ServoReport> RunServoLoops(
+    const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
+    const std::vector<std::unique_ptr<hapsim::bridge::HapticDevice>>& devices, const std::vector<std::string>& sessions,
+    hapsim::bridge::BridgeDds& dds) {
+  std::vector<hapsim::bridge::ServoLoop> loops;
+  for (std::size_t i = 0; i < devices.size(); ++i) {
+    loops.emplace_back(devices[i].get(), MakeBridgeServoConfig(f, safety_config, i, sessions[i]), &dds.pose_outbox(i),
+                       &dds.model_inbox(i), [&dds] { dds.Wake(); });
+    spdlog::info("servo loop at {} Hz on device {} (id {}) for session '{}'", f.rate_hz, devices[i]->Name(),
+                 f.device_id + static_cast<int>(i), sessions[i]);
+  }
+  std::atomic<bool> stop{false};
+  std::vector<hapsim::bridge::ServoReport> reports(devices.size());
+  {
+    hapsim::bridge::StopOnSignal stop_on_signal(&stop);
+    std::vector<std::thread> others;
+    for (std::size_t i = 1; i < loops.size(); ++i) {
+      others.emplace_back([&, i] { reports[i] = loops[i].Run(stop); });
+    }
+    reports[0] = loops[0].Run(stop);
+    for (std::thread& t : others) t.join();
+    for (auto& device : devices) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
+  }
+  return reports;
+}
+
 // Every device's servo loop (one thread each; the first on this one) until
 // the scripts end, --seconds pass or a signal comes; the process's exit code.
 int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
@@ -263,25 +297,7 @@ int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_c
     spdlog::info("DDS domain {} with config: {}", f.process.dds_domain, dds.config_origin());
     dds.Start();
 
-    std::vector<hapsim::bridge::ServoLoop> loops;
-    for (std::size_t i = 0; i < devices.size(); ++i) {
-      loops.emplace_back(devices[i].get(), MakeBridgeServoConfig(f, safety_config, i, sessions[i]), &dds.pose_outbox(i),
-                         &dds.model_inbox(i), [&dds] { dds.Wake(); });
-      spdlog::info("servo loop at {} Hz on device {} (id {}) for session '{}'", f.rate_hz, devices[i]->Name(),
-                   f.device_id + static_cast<int>(i), sessions[i]);
-    }
-    std::atomic<bool> stop{false};
-    std::vector<hapsim::bridge::ServoReport> reports(devices.size());
-    {
-      hapsim::bridge::StopOnSignal stop_on_signal(&stop);
-      std::vector<std::thread> others;
-      for (std::size_t i = 1; i < loops.size(); ++i) {
-        others.emplace_back([&, i] { reports[i] = loops[i].Run(stop); });
-      }
-      reports[0] = loops[0].Run(stop);
-      for (std::thread& t : others) t.join();
-      for (auto& device : devices) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
-    }
+    std::vector<hapsim::bridge::ServoReport> reports = RunServoLoops(f, safety_config, devices, sessions, dds);
     for (std::size_t i = 0; i < sessions.size(); ++i) {
       if (dds.matched_servers(i) == 0) {
         spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
