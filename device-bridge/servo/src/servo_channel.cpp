@@ -36,10 +36,10 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
   return r;
 }
 
-void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
+bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   tick_.round_trip_s = -1.0;
   ReceivedModel incoming;
-  if (!(delay_.enabled() ? delay_.Take(inbox, sensed_ns_, &incoming) : inbox.TakeIfNew(&incoming))) return;
+  if (!(delay_.enabled() ? delay_.Take(inbox, sensed_ns_, &incoming) : inbox.TakeIfNew(&incoming))) return false;
   const std::uint64_t echo = incoming.echo_pose_seq;
   // A model computed from an older pose than the held one was overtaken in
   // transit: it describes where the tool was, so it is discarded. Only while
@@ -48,16 +48,15 @@ void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   const bool held_is_fresh = have_model_ && sensed_ns_ - model_.received_ns <= warn_age_ns_;
   if (held_is_fresh && echo < counters_.last_echo_seq) {
     ++counters_.echo_regressions;
-    return;
+    return false;
   }
   // Unpacked and checked by the receive thread (hapsim::wire); rendered no
   // stiffer than the device can, and blended in if it jumps.
   safety_.CapModel(&incoming.model);
   const DeviceReading& r = tick_.reading;
-  if (have_model_) {
-    safety_.OfferModel(model_.model, core::EvaluateLocalForce(incoming.model, r.tip_W_m, r.velocity_W_m_per_s),
-                       r.tip_W_m, r.velocity_W_m_per_s);
-  }
+  // Evaluated once: the transition compares it with the old model, and it is this tick's request.
+  tick_.requested_W_N = core::EvaluateLocalForce(incoming.model, r.tip_W_m, r.velocity_W_m_per_s);
+  if (have_model_) safety_.OfferModel(model_.model, tick_.requested_W_N, r.tip_W_m, r.velocity_W_m_per_s);
   model_ = incoming;
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
@@ -67,10 +66,11 @@ void ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     round_trip_s_.Record(tick_.round_trip_s);
   }
   have_model_ = true;
+  return true;
 }
 
 const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inbox) {
-  TakeNewestModel(inbox);
+  const bool took_model = TakeNewestModel(inbox);  // evaluates the new model at the stylus
   // A model can land between Sense's clock read and the take: age 0, not
   // negative (negative means "no model" to the safety layer).
   tick_.model_age_s =
@@ -78,8 +78,10 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   if (have_model_) model_age_s_.Record(tick_.model_age_s);
 
   const DeviceReading& r = tick_.reading;
-  tick_.requested_W_N =
-      have_model_ ? core::EvaluateLocalForce(model_.model, r.tip_W_m, r.velocity_W_m_per_s) : Eigen::Vector3d::Zero();
+  if (!took_model) {
+    tick_.requested_W_N = have_model_ ? core::EvaluateLocalForce(model_.model, r.tip_W_m, r.velocity_W_m_per_s)
+                                      : Eigen::Vector3d::Zero();
+  }
   tick_.blended_W_N = safety_.Blend(tick_.requested_W_N, r.tip_W_m, r.velocity_W_m_per_s);
   SafetyInput in;
   in.requested_W_N = tick_.blended_W_N;

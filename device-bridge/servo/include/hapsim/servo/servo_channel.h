@@ -71,7 +71,8 @@ class ServoChannel {
   common::Percentiles ModelAge() const { return model_age_s_.Summary(); }
 
  private:
-  void TakeNewestModel(common::LatestValue<ReceivedModel>& inbox);
+  // True when it took a new model, with tick_.requested_W_N already its force at the stylus.
+  bool TakeNewestModel(common::LatestValue<ReceivedModel>& inbox);
   void RecordPeaks();
 
   // Send time of each pose by seq; a model echoing a seq older than the ring
