@@ -29,6 +29,8 @@
 #   hapsim::viewer_export  viewer + tinygltf: meshes to OBJ and glTF
 #   hapsim::viewer_gui  viewer + GLFW, OpenGL/EGL, Dear ImGui, stb — rendering on
 #                     top of the mesh cache; the cache and client never include GL
+#   hapsim::netlab    common: the network lab's link emulation (TUN I/O,
+#                     link models) — no simulation, no DDS, no gRPC
 #   executables       their library; hapsim-load adds the viewer's gRPC
 #                     client (to create sessions) but never a server
 #                     layer; hapsim-validate core + io.
@@ -77,6 +79,8 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "grpc|grpcpp|google/protobuf|haptics\\.h|hapsim/(io|wire|${_server_layers}|viewer|v1)/")
   hapsim_forbid_includes(hapsim::viewer TARGET hapsim_viewer DIRS ${PROJECT_SOURCE_DIR}/client-viewer
     PATTERN "dds/|ddsc|haptics\\.h|hapsim/(core|dds|io|${_server_layers}|servo|bridge|load)/")
+  hapsim_forbid_includes(hapsim::netlab TARGET hapsim_netlab DIRS ${PROJECT_SOURCE_DIR}/netlab
+    PATTERN "${_net}|hapsim/(core|io|dds|wire|${_server_layers}|${_device_side}|viewer|v1)/")
   # The mesh cache and gRPC client stay free of rendering and of file export.
   hapsim_forbid_includes(hapsim::viewer_client_only
     DIRS ${PROJECT_SOURCE_DIR}/client-viewer/include ${PROJECT_SOURCE_DIR}/client-viewer/src
@@ -126,4 +130,6 @@ endif()
 hapsim_layer_allows(hapsim-viewer ${_viewer_export} hapsim_viewer_gui)
 hapsim_layer_allows(hapsim-ctl ${_viewer_export})
 hapsim_layer_allows(hapsim-validate hapsim_io ${_core})
+hapsim_layer_allows(hapsim_netlab ${_common})
+hapsim_layer_allows(hapsim-linkem hapsim_netlab ${_common} nlohmann_json::nlohmann_json)
 hapsim_check_layers()

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libssl-dev openssl libtinygltf-dev nlohmann-json3-dev prometheus-cpp-dev
   python3 python3-scipy python3-numpy python3-grpcio curl
+  iproute2  # the network lab (netlab/netlab.sh): ip netns, TUN devices
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
 )

@@ -142,5 +142,19 @@ expect 2 "usage: hapsim-validate" bash -c '"$0" >&2' "$bin/hapsim-validate"  # u
 expect 2 "unknown command 'frobnicate'" "$bin/hapsim-validate" frobnicate --out "$tmp/v"
 expect 2 "unknown argument '--bogus'" "$bin/hapsim-validate" puncture --out "$tmp/v" --bogus
 expect 2 "--out DIR is required" "$bin/hapsim-validate" puncture
+# The network lab's link emulator and DDS config generator: named, before any device opens.
+expect 2 "at least two --host are needed" "$bin/hapsim-linkem" --host a,10.77.0.1
+expect 2 "--host b: unknown link key 'delay' (known: delay_ms," "$bin/hapsim-linkem" --host a,10.77.0.1 \
+    --host b,10.77.0.2,delay=5
+expect 2 "--host b: loss must be within \[0, 1\], got 2" "$bin/hapsim-linkem" --host a,10.77.0.1 --host b,10.77.0.2,loss=2
+expect 2 "--host b: '10.77.0' is not an IPv4 address" "$bin/hapsim-linkem" --host a,10.77.0.1 --host b,10.77.0
+expect 2 "hosts a and b share an address" "$bin/hapsim-linkem" --host a,10.77.0.1 --host b,10.77.0.1
+expect 2 "--seconds must be within (0, 86400]" "$bin/hapsim-linkem" --host a,10.77.0.1 --host b,10.77.0.2 --seconds 0
+expect 1 "cannot open network namespace hapsim-no-such-lab" "$bin/hapsim-linkem" --host hapsim-no-such-lab,10.77.0.1 \
+    --host b,10.77.0.2 --seconds 1
+expect 2 "--interface is required" bash "$here/../../deploy/make-dds-config.sh"
+expect 2 "--discovery unicast needs --peer" bash "$here/../../deploy/make-dds-config.sh" --interface eth0 --discovery unicast
+expect 2 "--max-participants must be within \[1, 120\]" bash "$here/../../deploy/make-dds-config.sh" --interface eth0 \
+    --max-participants 500
 echo "$failures failed"
 [ "$failures" -eq 0 ]

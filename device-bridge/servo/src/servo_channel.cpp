@@ -33,6 +33,8 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
   pose_.tool.buttons = r.buttons;
   sent_seq_[seq % kSentRing] = seq;
   sent_ns_[seq % kSentRing] = sensed_ns_;
+  sent_tip_W_m_[seq % kSentRing] = r.tip_W_m;
+  sent_velocity_W_m_per_s_[seq % kSentRing] = r.velocity_W_m_per_s;
   return r;
 }
 
@@ -50,6 +52,12 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     ++counters_.echo_regressions;
     return false;
   }
+  const std::size_t echo_slot = echo % kSentRing;
+  const bool echo_remembered = sent_seq_[echo_slot] == echo;
+  if (echo_remembered) {
+    tick_.physics_at_echo_W_N =
+        core::EvaluateLocalForce(incoming.model, sent_tip_W_m_[echo_slot], sent_velocity_W_m_per_s_[echo_slot]);
+  }
   // Unpacked and checked by the receive thread (hapsim::wire); rendered no
   // stiffer than the device can, and blended in if it jumps.
   safety_.CapModel(&incoming.model);
@@ -61,8 +69,8 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
   ++counters_.models_taken;
-  if (sent_seq_[echo % kSentRing] == echo) {
-    tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo % kSentRing]) * 1e-9;
+  if (echo_remembered) {
+    tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo_slot]) * 1e-9;
     round_trip_s_.Record(tick_.round_trip_s);
   }
   have_model_ = true;

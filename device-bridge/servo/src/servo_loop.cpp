@@ -3,10 +3,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "hapsim/servo/deadline_ticker.h"
 
 namespace hapsim::bridge {
+namespace {
+const Eigen::Vector3d kUnknownForce_W_N = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
+}  // namespace
 
 ServoLoop::ServoLoop(HapticDevice* device, ServoConfig config, common::LatestValue<SensedPose>* pose_out,
                      common::LatestValue<ReceivedModel>* model_in, std::function<void()> wake_io)
@@ -81,7 +85,16 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
     const ChannelCounters& c = channel.counters();
     report->trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
                              tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
-                             static_cast<std::uint8_t>(channel.model_state()), channel.watchdog()});
+                             static_cast<std::uint8_t>(channel.model_state()), channel.watchdog(), channel.pose().seq,
+                             kUnknownForce_W_N});
+  }
+  // The physics' answer to an earlier tick's pose goes into that tick's row.
+  if (tick.round_trip_s >= 0.0 && !report->trace.empty()) {
+    const std::uint64_t first = report->trace.front().pose_seq;
+    const std::uint64_t echo = channel.counters().last_echo_seq;
+    if (echo >= first && echo - first < report->trace.size()) {
+      report->trace[echo - first].physics_W_N = tick.physics_at_echo_W_N;
+    }
   }
   return true;
 }
@@ -89,18 +102,22 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(f, "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
-                  "echo_pose_seq,model_state,watchdog,phase\n");
+  std::fprintf(f,
+               "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
+               "echo_pose_seq,model_state,watchdog,phase,pose_seq,phys_fx_N,phys_fy_N,phys_fz_N\n");
   for (const auto& r : rows) {
     // t_s to the nanosecond: after a late tick the servo catches up with
     // wakes microseconds apart, which 6 decimals would write as one time
     // (and the replay backend needs them increasing).
-    std::fprintf(f, "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s\n", r.t_s,
-                 r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
+    std::fprintf(f,
+                 "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s,%llu,%.6f,%."
+                 "6f,%.6f\n",
+                 r.t_s, r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
                  r.orientation_W.y(), r.orientation_W.z(), r.force_W_N.x(), r.force_W_N.y(), r.force_W_N.z(),
                  r.requested_W_N.x(), r.requested_W_N.y(), r.requested_W_N.z(), r.model_age_ms,
                  static_cast<unsigned long long>(r.echo_pose_seq), static_cast<unsigned>(r.model_state),
-                 ToString(r.watchdog), r.phase);
+                 ToString(r.watchdog), r.phase, static_cast<unsigned long long>(r.pose_seq), r.physics_W_N.x(),
+                 r.physics_W_N.y(), r.physics_W_N.z());
   }
   return std::fclose(f) == 0;
 }

@@ -177,3 +177,38 @@ TEST_F(ServoChannelTest, ANanInAnyModelFieldNeverReachesTheDevice) {
 
 }  // namespace
 }  // namespace hapsim::bridge
+
+namespace hapsim::bridge {
+namespace {
+
+// The transparency reference: a model that echoes pose S is evaluated at
+// pose S (where the physics computed it), with the server's stiffness, not
+// at the stylus now and not capped to what the device can render.
+TEST(ServoChannelPhysicsReference, AModelIsEvaluatedAtThePoseItEchoesAsTheServerSentIt) {
+  SyntheticScript script;
+  script.kind = "constant_speed";  // down at 10 mm/s from the surface
+  script.start_height_m = 0.0;
+  script.depth_m = 0.01;
+  SyntheticDevice device(script);
+  common::LatestValue<ReceivedModel> inbox;
+  ServoChannel channel(&device, ChannelConfig{7, 0.001, test::WithoutRampIn(), 1024});
+  double z_of_pose_10 = 0.0;
+  for (int k = 0; k <= 30; ++k) {
+    channel.Sense(k * 0.001);
+    if (k == 10) z_of_pose_10 = channel.pose().tool.tip_W_m.z();
+    if (k == 30) {
+      ReceivedModel m = ContactModel(10, common::SteadyNowNs());
+      m.model.stiffness_N_per_m = 2000.0;  // above the device's 700 N/m cap
+      inbox.Publish(m);
+    }
+    const ChannelTick& tick = channel.Actuate(inbox);
+    if (k < 30) continue;
+    ASSERT_GE(tick.round_trip_s, 0.0);
+    ASSERT_LT(z_of_pose_10, -0.00005);  // the tip was below the surface at pose 10, deeper now
+    EXPECT_NEAR(tick.physics_at_echo_W_N.z(), 2000.0 * -z_of_pose_10, 1e-9);
+    EXPECT_LT(tick.requested_W_N.z(), 700.0 * -channel.pose().tool.tip_W_m.z() + 1e-9);  // rendered: capped, here
+  }
+}
+
+}  // namespace
+}  // namespace hapsim::bridge

@@ -40,6 +40,11 @@ struct ChannelTick {
   Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
   double model_age_s = -1.0;   // age of the model used; -1: none yet
   double round_trip_s = -1.0;  // this tick's new model echoes a remembered pose: its round trip; else -1
+  // When round_trip_s >= 0: the new model's force at the pose it echoes, as
+  // the server sent it (before the device's caps). The model reproduces the
+  // physics' tool force at the pose it was stepped with, so this is the force
+  // the physics computed for that pose — the reference for transparency.
+  Eigen::Vector3d physics_at_echo_W_N = Eigen::Vector3d::Zero();
 };
 
 struct ChannelCounters {
@@ -88,6 +93,7 @@ class ServoChannel {
   std::int64_t sensed_ns_ = 0;
   std::array<std::uint64_t, kSentRing> sent_seq_;
   std::array<std::int64_t, kSentRing> sent_ns_{};
+  std::array<Eigen::Vector3d, kSentRing> sent_tip_W_m_, sent_velocity_W_m_per_s_;
   bool have_model_ = false;
   ReceivedModel model_;
   ModelDelay delay_;

@@ -1,0 +1,29 @@
+// The link emulator's process loop: packets read from each host's TUN
+// device go through the LinkSwitch and are written to the destination's TUN
+// device when due. One thread, ppoll with nanosecond timeouts.
+#pragma once
+#include <atomic>
+#include <string>
+#include <vector>
+
+#include "hapsim/common/stats.h"
+#include "hapsim/netlab/link_switch.h"
+
+namespace hapsim::netlab {
+
+struct ForwarderResult {
+  bool ok = true;
+  std::string error;  // when !ok: the I/O call that failed
+  double elapsed_s = 0.0;
+  std::uint64_t write_errors = 0;  // a TUN write that failed (the host's device went away)
+  common::Percentiles lateness_s;  // written minus due, per delivered packet
+};
+
+// tun_fds[i] is host i's device. Runs until *stop, or for `seconds`.
+ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tun_fds, double seconds,
+                             const std::atomic<bool>& stop);
+
+// This process's monotonic clock [ns] (the LinkSwitch's clock here).
+std::int64_t MonotonicNs();
+
+}  // namespace hapsim::netlab

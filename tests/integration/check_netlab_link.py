@@ -1,0 +1,80 @@
+"""Checks netlab_link.sh: the emulated link delays, drops and carries what
+it was told to, and hapsim works across it (round trip, transparency at a
+20 ms round trip, a stylus that fades and recovers when its link is cut,
+a far viewer in sync)."""
+import json
+import re
+import sys
+
+from checks import check, finish, read_text
+
+work, repo = sys.argv[1], sys.argv[2]
+sys.path.insert(0, f"{repo}/tests/bench")
+from transparency_table import load_trace, transparency  # noqa: E402
+
+for name in ("server", "bridge", "cut", "viewer"):
+    rc = int(read_text(work, f"{name}.rc"))
+    check(rc == 0, f"{name} exited 0 ({rc})")
+
+# The link itself, as a UDP echo and a TCP exchange see it.
+trainee = json.loads(read_text(work, "probe_trainee.json"))
+viewer = json.loads(read_text(work, "probe_viewer.json"))
+print("probe trainee:", trainee)
+print("probe viewer:", viewer)
+# 10 ms each way: never early; within 1 ms of 20 ms for half the echoes (the
+# emulator's own lateness and Python's wake-ups add the rest).
+check(trainee["rtt_ms"]["min"] >= 20.0, f"10 ms link: no echo under 20 ms ({trainee['rtt_ms']['min']:.3f})")
+check(trainee["rtt_ms"]["p50"] <= 21.0, f"10 ms link: round trip p50 <= 21 ms ({trainee['rtt_ms']['p50']:.3f})")
+check(trainee["loss"] == 0.0, f"10 ms link: nothing lost ({trainee['loss']})")
+check(viewer["rtt_ms"]["min"] >= 50.0, f"25 ms link: no echo under 50 ms ({viewer['rtt_ms']['min']:.3f})")
+check(viewer["rtt_ms"]["p50"] <= 51.0, f"25 ms link: round trip p50 <= 51 ms ({viewer['rtt_ms']['p50']:.3f})")
+# 1 % each way: an echo is lost with 1 - 0.99^2 = 1.99 %; 1000 echoes: sd 0.44 %, 4 sd allowed.
+expected = 1 - 0.99 ** 2
+check(abs(viewer["loss"] - expected) <= 4 * (expected * (1 - expected) / viewer["sent"]) ** 0.5,
+      f"1 % link: echoes lost {100 * viewer['loss']:.2f} % (expected {100 * expected:.2f} %)")
+check(viewer["tcp_connect_ms"] >= 50.0, f"TCP connects after one 50 ms round trip ({viewer['tcp_connect_ms']:.1f} ms)")
+check("tcp_echo_100k_ms" in viewer, "100 kB crossed the lossy link and back over TCP")
+
+link = json.loads(read_text(work, "link.json"))
+hosts = {h["netns"].rsplit("-", 1)[1]: h for h in link["hosts"]}
+print("emulator lateness us:", link["lateness_us"])
+check(hosts["cut"]["dropped_outage"] > 0, f"the cut host's outage dropped packets ({hosts['cut']['dropped_outage']})")
+check(hosts["viewer"]["dropped_lost"] > 0, f"the viewer's link lost packets ({hosts['viewer']['dropped_lost']})")
+check(hosts["trainee"]["dropped_lost"] + hosts["trainee"]["dropped_outage"] == 0, "the trainee's link lost nothing")
+check(link["lateness_us"]["p99"] < 1000.0, f"the emulator delivers on time: p99 {link['lateness_us']['p99']:.0f} us late")
+
+# The trainee 10 ms away: 20 ms round trip, transparent within 5 % of the peak.
+out = read_text(work, "bridge.out")
+rtt = re.search(r"round trip p50 ([\d.]+) / p99 ([\d.]+)", out)
+check(rtt and 20.0 <= float(rtt.group(1)) <= 21.5, f"bridge round trip p50 within [20, 21.5] ms ({rtt.group(1)})")
+t = transparency(load_trace(f"{work}/trace.csv"))
+print("transparency at 20 ms:", json.dumps(t))
+check(t["physics_peak_N"] > 0.5, f"the tissue was pressed ({t['physics_peak_N']:.3f} N)")
+check(t["rms_error_pct"] <= 5.0, f"rendered force within 5 % RMS of the physics at 20 ms ({t['rms_error_pct']:.2f} %)")
+uncorrected = int(re.search(r"uncorrected (\d+)", out).group(1))
+check(uncorrected == 0, f"no passivity violation left uncorrected ({uncorrected})")
+
+# The stylus whose link was cut for 2 s while pressing.
+cut = read_text(work, "cut.out")
+warnings, fades = map(int, re.search(r"warnings (\d+), fades (\d+)", cut).groups())
+disarms = int(re.search(r"disarms (\d+)", cut).group(1))
+check(warnings >= 1 and fades >= 1 and disarms >= 1,
+      f"cut link: the watchdog warned, faded and disarmed ({warnings}/{fades}/{disarms})")
+rows = load_trace(f"{work}/cut_trace.csv")
+disarmed = [r for r in rows if r[4] == "disarmed"]
+check(disarmed and all(r[1] == (0.0, 0.0, 0.0) for r in disarmed),
+      f"zero force while disarmed ({len(disarmed)} ticks)")
+last_second = rows[-1000:]
+fresh_force = [abs(r[1][2]) for r in last_second if r[4] == "fresh"]
+check(len(fresh_force) > 900 and min(fresh_force) > 0.3,
+      f"after the link came back the stylus pressed again ({len(fresh_force)} fresh ticks in the last second, "
+      f"least force {min(fresh_force, default=0):.3f} N)")
+
+# The viewer 25 ms away with 1 % loss each way.
+v = read_text(work, "viewer.out")
+frames = int(re.search(r"frames (\d+)", v).group(1))
+malformed = int(re.search(r"malformed (\d+)", v).group(1))
+mismatches = int(re.search(r"topology mismatches (\d+)", v).group(1))
+check(frames >= 120, f"far viewer: >= 20 frames/s over 6 s ({frames} frames)")
+check(malformed == 0 and mismatches == 0, f"far viewer: in sync (malformed {malformed}, mismatches {mismatches})")
+finish()
