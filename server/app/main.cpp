@@ -77,6 +77,7 @@ void PrintHelp(const hapsim::common::Flags& flags) {
 struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
+  double pose_extrapolation_ms = 100.0, model_deadband = 0.0, model_keepalive_ms = 25.0;
   int dds_domain = 0, max_sessions = 64;
 };
 
@@ -101,6 +102,13 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("pose-timeout-ms", &f->pose_timeout_ms, "no pose for this long: the tool counts as absent [ms]");
   flags.Add("pose-slack-ms", &f->pose_slack_ms,
             "a device's pose clocks its session; a pose later than one period plus this: tick without it [ms]");
+  flags.Add("pose-extrapolation-ms", &f->pose_extrapolation_ms,
+            "between poses, move the tool along its last velocity for at most this long, then hold it [ms]");
+  flags.Add("model-deadband", &f->model_deadband,
+            "send a force model only when the device would feel the change: this fraction of the force\n"
+            "(Weber; 0.07 is the force JND), else as a keep-alive (docs/deploy.md). 0: every tick");
+  flags.Add("model-keepalive-ms", &f->model_keepalive_ms,
+            "with --model-deadband: an unchanged model still goes out this often [ms]");
   flags.Add("workers", &options->workers, "tick worker threads (0: one per CPU this process may run on)");
   flags.Add("max-message-bytes", &options->max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &f->dds_domain, "DDS domain id");
@@ -138,6 +146,11 @@ bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptio
       {f.dds_domain >= 0 && f.dds_domain <= 232, "--dds-domain", "[0, 232]"},
       {f.pose_timeout_ms > 0.0 && f.pose_timeout_ms <= 60000.0, "--pose-timeout-ms", "(0, 60000]"},
       {f.pose_slack_ms >= 0.0 && f.pose_slack_ms <= f.pose_timeout_ms, "--pose-slack-ms", "[0, --pose-timeout-ms]"},
+      {f.pose_extrapolation_ms >= 0.0 && f.pose_extrapolation_ms <= f.pose_timeout_ms, "--pose-extrapolation-ms",
+       "[0, --pose-timeout-ms]"},
+      {f.model_deadband >= 0.0 && f.model_deadband <= 1.0, "--model-deadband", "[0, 1]"},
+      {f.model_keepalive_ms > 0.0 && f.model_keepalive_ms <= f.pose_timeout_ms, "--model-keepalive-ms",
+       "(0, --pose-timeout-ms]"},
       {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
       {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
       {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz",
@@ -157,6 +170,9 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
   options->sessions.max_sessions = static_cast<std::size_t>(f.max_sessions);
   options->sessions.pose_timeout_s = f.pose_timeout_ms * 1e-3;
   options->sessions.pose_slack_s = f.pose_slack_ms * 1e-3;
+  options->sessions.pose_extrapolation_s = f.pose_extrapolation_ms * 1e-3;
+  options->sessions.model_deadband.jnd = f.model_deadband;
+  options->sessions.model_deadband.keepalive_s = f.model_keepalive_ms * 1e-3;
   options->quantum_m = f.quantum_mm * 1e-3;
   options->dds.domain_id = static_cast<std::uint32_t>(f.dds_domain);
   options->dds.config_file = f.dds_config;

@@ -98,7 +98,7 @@ def bridge_device(path):
         m = re.search(rf"^bridge: {label} " + PERCENTILES.pattern, text, re.M)
         if m and int(m.group(4)) > 0:
             d[key] = tuple(float(m.group(i)) for i in (1, 2, 3))
-    m = re.search(r"poses sent (\d+); force models received (\d+)", text)
+    m = re.search(r"poses sent (\d+)(?: \([^)]*\))?; force models received (\d+)", text)
     if m:
         d["poses"], d["models"] = int(m.group(1)), int(m.group(2))
     m = re.search(r"disarms (\d+), watchdog \w+(?: \(warnings (\d+), fades (\d+)\))?", text)

@@ -84,7 +84,7 @@ def bridge_figures(text):
     m = re.search(r"passivity corrected (\d+) \(bounded (\d+), uncorrected (\d+)\)", text)
     if m:
         figures["passivity_corrected"], figures["passivity_uncorrected"] = int(m.group(1)), int(m.group(3))
-    m = re.search(r"poses sent (\d+); force models received (\d+)", text)
+    m = re.search(r"poses sent (\d+)(?: \([^)]*\))?; force models received (\d+)", text)
     if m:
         figures["poses"], figures["models"] = int(m.group(1)), int(m.group(2))
     return figures

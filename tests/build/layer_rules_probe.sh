@@ -18,7 +18,7 @@ make_tree() {
            "$t/server/runtime/src" "$t/server/device_link/src" "$t/server/streaming/src" "$t/server/classroom/src" \
            "$t/server/api/src" "$t/server/app/src" \
            "$t/device-bridge/servo/src" "$t/device-bridge/backends" "$t/device-bridge/dds/src" \
-           "$t/device-bridge/load/src" "$t/client-viewer/src"
+           "$t/device-bridge/load/src" "$t/client-viewer/src" "$t/netlab/src"
   cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
   echo '#include <Eigen/Core>' >"$t/core/src/step.cpp"
   printf '#include <cstdio>\n#include <cstdlib>\n' >"$t/core/src/assert.cpp"  # the one allowed writer
@@ -37,6 +37,7 @@ make_tree() {
   echo '#include "hapsim/bridge/model_router.h"' >"$t/device-bridge/load/src/load_runner.cpp"
   echo '#include <asio/signal_set.hpp>' >"$t/device-bridge/main.cpp"
   echo '#include <grpcpp/grpcpp.h>' >"$t/client-viewer/src/client.cpp"
+  printf '#include <linux/if_tun.h>\n#include "hapsim/common/flags.h"\n' >"$t/netlab/src/tun.cpp"
   cat >"$t/CMakeLists.txt" <<'CMAKE'
 cmake_minimum_required(VERSION 3.25)
 project(layer_probe NONE)
@@ -49,7 +50,7 @@ endforeach()
 target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
 foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto
           hapsim_runtime hapsim_device_link hapsim_streaming hapsim_classroom hapsim_api hapsim_app
-          hapsim_servo hapsim_bridge hapsim_load hapsim_viewer hapsim_viewer_export)
+          hapsim_servo hapsim_bridge hapsim_load hapsim_viewer hapsim_viewer_export hapsim_netlab)
   add_library(${t} INTERFACE)
 endforeach()
 foreach(t hapsim-server hapsim-bridge hapsim-load hapsim-viewer hapsim-ctl hapsim-validate)
@@ -76,6 +77,7 @@ link(hapsim_bridge hapsim_servo hapsim_dds hapsim_wire)
 link(hapsim_load hapsim_bridge)
 link(hapsim_viewer hapsim_proto hapsim_common gRPC::grpc++ Eigen3::Eigen)
 link(hapsim_viewer_export hapsim_viewer)
+link(hapsim_netlab hapsim_common)
 include(${CMAKE_CURRENT_SOURCE_DIR}/probe.cmake OPTIONAL)  # the injected violation, if any
 include(HapsimLayerRules)
 CMAKE
@@ -171,6 +173,10 @@ expect servo_includes_wire_types fail "hapsim::servo may not include.*haptics" \
   sh -c 'echo "#include \"haptics.h\"" >>device-bridge/servo/src/servo_channel.cpp'
 expect servo_links_dds fail "hapsim_servo links hapsim_dds" \
   sh -c 'echo "link(hapsim_servo hapsim_dds)" >probe.cmake'
+expect netlab_includes_core fail "hapsim::netlab may not include.*hapsim/core/" \
+  sh -c 'echo "#include \"hapsim/core/scenes/scene.h\"" >>netlab/src/tun.cpp'
+expect netlab_links_dds fail "hapsim_netlab links hapsim_dds" \
+  sh -c 'echo "link(hapsim_netlab hapsim_dds)" >probe.cmake'
 expect load_includes_grpc fail "hapsim::load may not include.*grpcpp" \
   sh -c 'echo "#include <grpcpp/grpcpp.h>" >>device-bridge/load/src/load_runner.cpp'
 expect load_links_grpc fail "hapsim_load links gRPC::grpc" \

@@ -142,6 +142,14 @@ expect 2 "usage: hapsim-validate" bash -c '"$0" >&2' "$bin/hapsim-validate"  # u
 expect 2 "unknown command 'frobnicate'" "$bin/hapsim-validate" frobnicate --out "$tmp/v"
 expect 2 "unknown argument '--bogus'" "$bin/hapsim-validate" puncture --out "$tmp/v" --bogus
 expect 2 "--out DIR is required" "$bin/hapsim-validate" puncture
+# Deadband coding's flags.
+expect 2 "--model-deadband must be within \[0, 1\]" "$bin/hapsim-server" --listen 127.0.0.1:0 --model-deadband 2
+expect 2 "--model-keepalive-ms must be within (0, --pose-timeout-ms\]" "$bin/hapsim-server" --listen 127.0.0.1:0 \
+    --model-keepalive-ms 0
+expect 2 "--pose-extrapolation-ms must be within \[0, --pose-timeout-ms\]" "$bin/hapsim-server" --listen 127.0.0.1:0 \
+    --pose-extrapolation-ms 1000
+expect 2 "--pose-deadband-mm must be within \[0, 10\]" "$bin/hapsim-bridge" --pose-deadband-mm 20
+expect 2 "--pose-keepalive-ms must be within (0, 200\]" "$bin/hapsim-bridge" --pose-keepalive-ms 0
 # The network lab's link emulator and DDS config generator: named, before any device opens.
 expect 2 "at least two --host are needed" "$bin/hapsim-linkem" --host a,10.77.0.1
 expect 2 "--host b: unknown link key 'delay' (known: delay_ms," "$bin/hapsim-linkem" --host a,10.77.0.1 \

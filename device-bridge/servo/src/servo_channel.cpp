@@ -12,6 +12,7 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
       period_s_(config.period_s),
       safety_(config.safety, device->Limits()),
       warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
+      pose_deadband_(config.pose_deadband),
       delay_(config.model_delay_s),
       round_trip_s_(config.stats_window),
       model_age_s_(config.stats_window) {
@@ -35,6 +36,8 @@ const DeviceReading& ServoChannel::Sense(double t_s) {
   sent_ns_[seq % kSentRing] = sensed_ns_;
   sent_tip_W_m_[seq % kSentRing] = r.tip_W_m;
   sent_velocity_W_m_per_s_[seq % kSentRing] = r.velocity_W_m_per_s;
+  pose_due_ = pose_deadband_.Offer(pose_);
+  if (pose_due_) ++counters_.poses_due;
   return r;
 }
 
@@ -53,7 +56,8 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     return false;
   }
   const std::size_t echo_slot = echo % kSentRing;
-  const bool echo_remembered = sent_seq_[echo_slot] == echo;
+  const bool first_answer = counters_.models_taken == 0 || echo != counters_.last_echo_seq;
+  const bool echo_remembered = first_answer && sent_seq_[echo_slot] == echo;
   if (echo_remembered) {
     tick_.physics_at_echo_W_N =
         core::EvaluateLocalForce(incoming.model, sent_tip_W_m_[echo_slot], sent_velocity_W_m_per_s_[echo_slot]);
@@ -79,6 +83,7 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
 
 const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inbox) {
   const bool took_model = TakeNewestModel(inbox);  // evaluates the new model at the stylus
+  tick_.took_model = took_model;
   // A model can land between Sense's clock read and the take: age 0, not
   // negative (negative means "no model" to the safety layer).
   tick_.model_age_s =

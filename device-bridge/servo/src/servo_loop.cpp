@@ -28,6 +28,7 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
   channel_config.period_s = 1.0 / config_.rate_hz;
   channel_config.safety = config_.safety;
   channel_config.model_delay_s = config_.model_delay_s;
+  channel_config.pose_deadband = config_.pose_deadband;
   ServoChannel channel(device_, channel_config);
   if (device_->RunsOwnServo()) {
     RunOnDeviceServo(channel, stop, &report);
@@ -76,8 +77,10 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
   // 1. device -> pose mailbox (the DDS thread sends it)
   const DeviceReading& reading = channel.Sense(t);
   if (reading.finished && config_.stop_when_script_finishes) return false;
-  pose_out_->Publish(channel.pose());
-  wake_io_();
+  if (channel.pose_due()) {
+    pose_out_->Publish(channel.pose());
+    wake_io_();
+  }
   // 2. newest model -> safety -> device
   const ChannelTick& tick = channel.Actuate(*model_in_);
   // 3. trace (reserved before the loop: no allocation)
@@ -86,7 +89,7 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
     report->trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
                              tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
                              static_cast<std::uint8_t>(channel.model_state()), channel.watchdog(), channel.pose().seq,
-                             kUnknownForce_W_N});
+                             channel.pose_due(), tick.took_model, kUnknownForce_W_N});
   }
   // The physics' answer to an earlier tick's pose goes into that tick's row.
   if (tick.round_trip_s >= 0.0 && !report->trace.empty()) {
@@ -102,22 +105,23 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(f,
-               "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
-               "echo_pose_seq,model_state,watchdog,phase,pose_seq,phys_fx_N,phys_fy_N,phys_fz_N\n");
+  std::fprintf(
+      f,
+      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
+      "echo_pose_seq,model_state,watchdog,phase,pose_seq,phys_fx_N,phys_fy_N,phys_fz_N,pose_sent,model_taken\n");
   for (const auto& r : rows) {
     // t_s to the nanosecond: after a late tick the servo catches up with
     // wakes microseconds apart, which 6 decimals would write as one time
     // (and the replay backend needs them increasing).
     std::fprintf(f,
                  "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s,%llu,%.6f,%."
-                 "6f,%.6f\n",
+                 "6f,%.6f,%d,%d\n",
                  r.t_s, r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
                  r.orientation_W.y(), r.orientation_W.z(), r.force_W_N.x(), r.force_W_N.y(), r.force_W_N.z(),
                  r.requested_W_N.x(), r.requested_W_N.y(), r.requested_W_N.z(), r.model_age_ms,
                  static_cast<unsigned long long>(r.echo_pose_seq), static_cast<unsigned>(r.model_state),
                  ToString(r.watchdog), r.phase, static_cast<unsigned long long>(r.pose_seq), r.physics_W_N.x(),
-                 r.physics_W_N.y(), r.physics_W_N.z());
+                 r.physics_W_N.y(), r.physics_W_N.z(), r.pose_sent ? 1 : 0, r.model_taken ? 1 : 0);
   }
   return std::fclose(f) == 0;
 }

@@ -29,6 +29,8 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
       period_ns_(SecondsToNs(config_.tick_period_s)),
       pose_timeout_ns_(SecondsToNs(config_.pose_timeout_s)),
       pose_slack_ns_(SecondsToNs(config_.pose_slack_s)),
+      pose_extrapolation_ns_(SecondsToNs(config_.pose_extrapolation_s)),
+      model_deadband_(config_.model_deadband),
       scene_(std::move(scene)),
       port_(std::move(port)),
       listener_(std::move(listener)),
@@ -47,6 +49,14 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
   }
   if (!(config_.pose_slack_s >= 0.0 && config_.pose_slack_s <= config_.pose_timeout_s)) {
     throw std::invalid_argument("pose slack must be in [0, pose timeout]");
+  }
+  if (!(config_.pose_extrapolation_s >= 0.0 && config_.pose_extrapolation_s <= config_.pose_timeout_s)) {
+    throw std::invalid_argument("pose extrapolation must be in [0, pose timeout]");
+  }
+  const ModelDeadbandConfig& deadband = config_.model_deadband;
+  if (!(deadband.jnd >= 0.0 && deadband.jnd <= 1.0 && deadband.floor_N >= 0.0 && deadband.keepalive_s > 0.0 &&
+        deadband.keepalive_s <= config_.pose_timeout_s && deadband.probe_depth_m >= 0.0)) {
+    throw std::invalid_argument("model deadband: jnd in [0, 1], floor >= 0, keep-alive in (0, pose timeout]");
   }
   part_names_ = std::make_shared<const std::vector<std::string>>(scene_->Topology().PartNames());
   layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
@@ -90,7 +100,7 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   counters_.tick.tick_work.Observe_ns(work_ns);
   RecordTiming(in, due_ns, now_ns, tool_force_N);
   interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
-  if (in.tool.valid) PublishForceModel(in, model);
+  if (in.tool.valid) PublishForceModel(in, model, now_ns);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
   return NextDueNs(in, due_ns, now_ns);
 }
@@ -107,7 +117,13 @@ TickInput Session::AssembleInput(std::int64_t now_ns) {
   in.tool = last_pose_.tool;
   in.device_id = last_pose_.device_id;
   in.pose_seq = last_pose_.seq;
-  if (!have_pose_ || now_ns - last_pose_.received_ns > pose_timeout_ns_) in.tool.valid = false;  // device gone
+  const std::int64_t pose_age_ns = now_ns - last_pose_.received_ns;
+  if (!have_pose_ || pose_age_ns > pose_timeout_ns_) in.tool.valid = false;  // device gone
+  // No new pose (sent sparsely, or late): where the tool has moved on to.
+  if (!in.fresh_pose && in.tool.valid && pose_age_ns > 0) {
+    const double ahead_s = static_cast<double>(std::min(pose_age_ns, pose_extrapolation_ns_)) * 1e-9;
+    in.tool.tip_W_m += ahead_s * in.tool.velocity_W_m_per_s;
+  }
   in.paused = paused_.load(std::memory_order_relaxed);
   const std::uint32_t resets = reset_requests_.load(std::memory_order_relaxed);
   in.reset = resets != resets_seen_;
@@ -146,13 +162,18 @@ void Session::RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_
   AtomicMax(counters_.tick.peak_tool_force_N, tool_force_N);
 }
 
-void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel& model) {
+void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel& model, std::int64_t now_ns) {
   ForceModelMessage& m = force_message_;
+  // Paused: the tissue is frozen, so the device gets no force (safe default).
+  m.model = in.paused ? core::LocalForceModel{} : model;
+  if (in.device_id != m.device_id) model_deadband_.Forget();  // a new device holds no model yet
+  if (!model_deadband_.Offer(m.model, in.tool, now_ns)) {
+    counters_.tick.force_models_held.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   m.device_id = in.device_id;
   m.seq = force_seq_++;
   m.echo_pose_seq = in.pose_seq;
-  // Paused: the tissue is frozen, so the device gets no force (safe default).
-  m.model = in.paused ? core::LocalForceModel{} : model;
   m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).

@@ -90,6 +90,8 @@ std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::stri
   config.frame_rate_hz = defaults_.frame_rate_hz;
   config.pose_timeout_s = defaults_.pose_timeout_s;
   config.pose_slack_s = defaults_.pose_slack_s;
+  config.pose_extrapolation_s = defaults_.pose_extrapolation_s;
+  config.model_deadband = defaults_.model_deadband;
   // The scene and the session's first-touched buffers, at low priority;
   // the DDS endpoints only once the scene built (a failed build leaves no
   // writer in the session's partition for another server to see).

@@ -3,6 +3,7 @@
 // owns a session, deadlines follow the device, lateness is counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <vector>
 
@@ -208,6 +209,51 @@ TEST(SessionTick, SimTimeAdvancesOnePeriodPerTickWhateverTheWallClock) {
     now += (i % 2 ? 3 : 1) * kPeriodNs / 2;  // irregular wall-clock spacing
   }
   EXPECT_NEAR(session->scene().SimTime_s(), 0.1, 1e-12);
+}
+
+TEST(SessionTick, BetweenPosesTheToolMovesOnAlongItsVelocityForAtMostTheHorizon) {
+  CapturedModels models;
+  SessionConfig config;
+  config.id = "extrapolation";
+  config.pose_extrapolation_s = 0.010;
+  Session session(config, core::MakeScene({"tissue_block", {}}), std::make_shared<CapturingPort>(&models));
+  std::vector<TickInput> inputs;
+  session.SetTickObserver([&](const TickInput& in) { inputs.push_back(in); });
+  const PoseSample pose = PressingPose(0, 1, kT0Ns);  // 1 mm/s down
+  session.OfferPose(pose);
+  for (int k = 0; k <= 15; ++k) session.RunTick(kT0Ns + k * kPeriodNs, kT0Ns + k * kPeriodNs);
+  ASSERT_EQ(inputs.size(), 16u);
+  for (int k = 0; k <= 15; ++k) {
+    const double ahead_s = std::min(k, 10) * 1e-3;  // held after the 10 ms horizon
+    EXPECT_NEAR(inputs[k].tool.tip_W_m.z(), pose.tool.tip_W_m.z() - 1e-3 * ahead_s, 1e-15) << "tick " << k;
+    EXPECT_EQ(inputs[k].tool.tip_W_m.x(), pose.tool.tip_W_m.x());
+    EXPECT_EQ(inputs[k].pose_seq, 0u);  // the model still answers the pose it came from
+  }
+}
+
+TEST(SessionTick, WithAModelDeadbandAToolHeldStillGetsKeepAlivesOnly) {
+  // Pressed 1 mm into the block and held: once the tissue settles, the
+  // force stops changing and models go out every keep-alive (25 ms).
+  CapturedModels models;
+  SessionConfig config;
+  config.id = "deadband";
+  config.model_deadband.jnd = 0.07;
+  config.model_deadband.keepalive_s = 0.025;
+  Session session(config, core::MakeScene({"tissue_block", {}}), std::make_shared<CapturingPort>(&models));
+  std::int64_t now = kT0Ns;
+  for (std::uint64_t seq = 0; seq < 2000; ++seq) {
+    PoseSample p = PressingPose(seq, 1, now);
+    p.tool.tip_W_m.z() = -0.001;
+    p.tool.velocity_W_m_per_s.setZero();
+    session.OfferPose(p);
+    session.RunTick(now, now);
+    if (seq == 999) models.count = 0;  // settled: count the second second only
+    now += kPeriodNs;
+  }
+  EXPECT_EQ(models.count, 40u);  // 1000 ms / 25 ms
+  EXPECT_EQ(session.counters().tick.force_models_held.load() + session.counters().tick.force_models_sent.load(), 2000u);
+  EXPECT_GT(models.last.model.stiffness_N_per_m, 0.0);
+  EXPECT_EQ(models.last.model.state, core::ContactState::kContact);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "hapsim/servo/device.h"
 #include "hapsim/servo/force_safety.h"
 #include "hapsim/servo/model_delay.h"
+#include "hapsim/servo/pose_deadband.h"
 #include "hapsim/servo/servo_messages.h"
 
 namespace hapsim::bridge {
@@ -30,6 +31,7 @@ struct ChannelConfig {
   SafetyConfig safety;
   std::size_t stats_window = 1 << 17;  // recent samples kept for round-trip / model-age percentiles
   double model_delay_s = 0.0;          // measurement aid: every model held this long first (ModelDelay)
+  PoseDeadbandConfig pose_deadband;    // which poses go out (default: every one)
 };
 
 // What the last tick did, for the caller's trace and pooled statistics.
@@ -39,7 +41,11 @@ struct ChannelTick {
   Eigen::Vector3d blended_W_N = Eigen::Vector3d::Zero();    // handed to the chain: requested, or a model jump's blend
   Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
   double model_age_s = -1.0;   // age of the model used; -1: none yet
-  double round_trip_s = -1.0;  // this tick's new model echoes a remembered pose: its round trip; else -1
+  bool took_model = false;     // a new model arrived and was applied this tick
+  // This tick's new model is the first to answer a remembered pose: the
+  // round trip from sensing that pose; else -1 (a later model for the same
+  // pose, sent while the device sends sparsely, is no round trip).
+  double round_trip_s = -1.0;
   // When round_trip_s >= 0: the new model's force at the pose it echoes, as
   // the server sent it (before the device's caps). The model reproduces the
   // physics' tool force at the pose it was stepped with, so this is the force
@@ -49,6 +55,7 @@ struct ChannelTick {
 
 struct ChannelCounters {
   std::uint64_t ticks = 0;             // completed Actuate calls
+  std::uint64_t poses_due = 0;         // poses the deadband let out (pose_due() was true)
   std::uint64_t models_taken = 0;      // new models found in the inbox and applied (older ones are overwritten unseen)
   std::uint64_t echo_regressions = 0;  // models echoing an older pose than the one held: discarded (reordered)
   std::uint64_t first_echo_seq = 0, last_echo_seq = 0;  // valid when models_taken > 0
@@ -64,6 +71,8 @@ class ServoChannel {
   // t_s: the device's time since its start (scripts and replays follow it).
   const DeviceReading& Sense(double t_s);
   const SensedPose& pose() const { return pose_; }
+  // Should the pose just sensed go out (PoseDeadband)? The caller sends it only then.
+  bool pose_due() const { return pose_due_; }
   const ChannelTick& Actuate(common::LatestValue<ReceivedModel>& inbox);
 
   const ChannelTick& last_tick() const { return tick_; }
@@ -89,6 +98,8 @@ class ServoChannel {
   ForceSafety safety_;
   std::int64_t warn_age_ns_;  // a held model younger than this is fresh: older arrivals are discarded
   SensedPose pose_;
+  PoseDeadband pose_deadband_;
+  bool pose_due_ = false;
   std::uint64_t next_seq_ = 0;
   std::int64_t sensed_ns_ = 0;
   std::array<std::uint64_t, kSentRing> sent_seq_;

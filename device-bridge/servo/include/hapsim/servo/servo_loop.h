@@ -24,6 +24,7 @@ struct ServoConfig {
   SafetyConfig safety;
   double model_delay_s = 0.0;      // measurement aid: see ModelDelay
   std::size_t trace_capacity = 0;  // rows of trace to keep (0: none)
+  PoseDeadbandConfig pose_deadband;  // which poses go out (default: every one)
   bool stop_when_script_finishes = true;
 };
 
@@ -38,7 +39,9 @@ struct TraceRow {
   const char* phase;
   std::uint8_t model_state;
   WatchdogState watchdog;
-  std::uint64_t pose_seq;  // the pose this tick sensed and sent
+  std::uint64_t pose_seq;  // the pose this tick sensed
+  bool pose_sent;          // ...and sent (the pose deadband let it out)
+  bool model_taken;        // a new force model was applied this tick
   // The physics' force for this tick's pose, filled in when the model that
   // echoes it arrives (ChannelTick::physics_at_echo_W_N); NaN if none did.
   Eigen::Vector3d physics_W_N;
@@ -79,7 +82,8 @@ class ServoLoop {
 
 // Writes the trace as CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,
 // req_fx_N,req_fy_N,req_fz_N,model_age_ms,echo_pose_seq,model_state,watchdog,phase,
-// pose_seq,phys_fx_N,phys_fy_N,phys_fz_N: the physics force for the row's pose, nan if no model echoed it);
+// pose_seq,phys_fx_N,phys_fy_N,phys_fz_N (the physics force for the row's pose, nan if no model echoed it),
+// pose_sent,model_taken (0/1: what crossed the network this tick));
 // its first 8 columns are a pose log the replay backend can play.
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows);
 

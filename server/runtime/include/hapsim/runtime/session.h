@@ -28,6 +28,7 @@
 #include "hapsim/common/latest_value.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/runtime/device_ownership.h"
+#include "hapsim/runtime/model_deadband.h"
 #include "hapsim/runtime/scene_snapshot.h"
 #include "hapsim/runtime/session_counters.h"
 #include "hapsim/runtime/session_port.h"
@@ -49,6 +50,13 @@ struct SessionConfig {
   // A streaming device's next pose may be this late before the session ticks
   // on its own deadline instead (with the previous pose).
   double pose_slack_s = 0.0005;
+  // Between poses (a device that sends only when its pose leaves a deadband,
+  // or a late one) the tool is extrapolated along its last velocity for at
+  // most this long, then held (0: always held).
+  double pose_extrapolation_s = 0.1;
+  // Force models go out when the device would feel a change (ModelDeadband;
+  // jnd 0: every tick).
+  ModelDeadbandConfig model_deadband;
 };
 
 // A pose accepted by the DDS thread.
@@ -110,13 +118,15 @@ class Session : public TickTask {
   TickInput AssembleInput(std::int64_t now_ns);
   std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
   void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N);
-  void PublishForceModel(const TickInput& in, const core::LocalForceModel& model);
+  void PublishForceModel(const TickInput& in, const core::LocalForceModel& model, std::int64_t now_ns);
   void PublishSnapshot(const TickInput& in);
 
   SessionConfig config_;
   std::int64_t period_ns_;
   std::int64_t pose_timeout_ns_;
   std::int64_t pose_slack_ns_;
+  std::int64_t pose_extrapolation_ns_;
+  ModelDeadband model_deadband_;
   std::unique_ptr<core::Scene> scene_;
   std::shared_ptr<SessionPort> port_;
   std::function<void(const TickInput&)> tick_observer_;

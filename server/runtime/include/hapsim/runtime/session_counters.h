@@ -18,6 +18,7 @@ struct alignas(64) TickCounters {
   std::atomic<std::uint64_t> device_clocked_ticks{0};  // run because a pose arrived
   std::atomic<std::int64_t> max_lateness_ns{0};
   std::atomic<std::uint64_t> force_models_sent{0};
+  std::atomic<std::uint64_t> force_models_held{0};  // not sent: the device would not feel the change (ModelDeadband)
   std::atomic<std::uint64_t> snapshots_skipped{0};  // every ring buffer was still being read
   std::atomic<std::uint64_t> numerical_resets{0};
   std::atomic<std::uint32_t> owning_device_id{0};

@@ -32,6 +32,8 @@ struct SessionDefaults {
   double frame_rate_hz = 60.0;
   double pose_timeout_s = 0.25;
   double pose_slack_s = 0.0005;
+  double pose_extrapolation_s = 0.1;
+  ModelDeadbandConfig model_deadband;
   std::size_t max_sessions = 64;
 };
 
