@@ -77,4 +77,8 @@ malformed = int(re.search(r"malformed (\d+)", v).group(1))
 mismatches = int(re.search(r"topology mismatches (\d+)", v).group(1))
 check(frames >= 120, f"far viewer: >= 20 frames/s over 6 s ({frames} frames)")
 check(malformed == 0 and mismatches == 0, f"far viewer: in sync (malformed {malformed}, mismatches {mismatches})")
+intruder = int(read_text(work, "intruder.rc"))
+intruder_log = read_text(work, "intruder.log")
+check(intruder != 0 and "may not view 't1'" in intruder_log,
+      f"far viewer with another trainee's token refused (exit {intruder}: {intruder_log.strip()[:120]})")
 finish()

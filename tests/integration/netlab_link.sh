@@ -2,12 +2,14 @@
 # hapsim across emulated links (netlab/netlab.sh: network namespaces joined
 # by hapsim-linkem): a server host; a trainee host 10 ms away; a second
 # trainee 10 ms away whose link is cut for 2 s mid-press; a viewer host
-# 25 ms away with 1 % loss each way. Every process uses the LAN DDS config
+# 25 ms away with 1 % loss each way. gRPC on TLS with a class's tokens; every
+# process uses the LAN DDS config
 # deploy/make-dds-config.sh writes (unicast peers), gRPC on the lab
 # addresses. check_netlab_link.py checks the link itself (a UDP echo's round
 # trips and loss, a TCP exchange), the bridge's round trip and transparency
 # at 20 ms, the cut stylus warning, fading, disarming and recovering, and
-# the far viewer's frames. Exits 77 (skipped) where namespaces cannot be made.
+# the far viewer's frames (and another trainee's token refused across the
+# link). Exits 77 (skipped) where namespaces cannot be made.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
 repo=$(cd "$here/../.." && pwd)
@@ -25,8 +27,11 @@ on() { "$netlab" exec "$lab" "$@"; }
 on_bg() { "$netlab" exec "$lab" "$@" & }
 
 # hapsim across it. Lab time: the cut host's outage is at 5-7 s, while its bridge presses (from ~2 s to ~10.5 s).
-on_bg server "$bin/hapsim-server" --listen 10.77.0.1:50051 --sessions t1:tissue_block,t2:tissue_block \
-    --dds-config dds.xml >server.out 2>server.log
+# A class on TLS with tokens (sessions t1, t2), as a skills lab runs it.
+bash "$repo/deploy/make-dev-certs.sh" certs 10.77.0.1 >/dev/null
+bash "$repo/deploy/make-class.sh" class lab-101 2 tissue_block >/dev/null
+on_bg server "$bin/hapsim-server" --listen 10.77.0.1:50051 --class-config class/class.toml \
+    --tls-cert certs/server.pem --tls-key certs/server.key --dds-config dds.xml >server.out 2>server.log
 server=$!; pids+=("$server")
 sleep 1.5
 on_bg trainee "$bin/hapsim-bridge" --session t1 --dds-config dds.xml --script insertion --depth-mm 5 \
@@ -39,11 +44,15 @@ on_bg cut "$bin/hapsim-bridge" --session t2 --dds-config dds.xml --script insert
     >cut.out 2>cut.log
 cut_bridge=$!; pids+=("$cut_bridge")
 on_bg viewer "$bin/hapsim-viewer" --headless --server 10.77.0.1:50051 --session t1 --seconds 6 \
-    >viewer.out 2>viewer.log
+    --tls-ca certs/ca.pem --token-file class/tokens/trainee1.token >viewer.out 2>viewer.log
 viewer=$!; pids+=("$viewer")
 wait "$bridge" && echo 0 >bridge.rc || echo $? >bridge.rc
 wait "$cut_bridge" && echo 0 >cut.rc || echo $? >cut.rc
 wait "$viewer" && echo 0 >viewer.rc || echo $? >viewer.rc
+# Across the link too: another trainee's token cannot watch t1.
+on viewer "$bin/hapsim-viewer" --headless --server 10.77.0.1:50051 --session t1 --seconds 2 \
+    --tls-ca certs/ca.pem --token-file class/tokens/trainee2.token >intruder.out 2>intruder.log \
+    && echo 0 >intruder.rc || echo $? >intruder.rc
 stop_process server_rc "$server"
 echo "$server_rc" >server.rc
 # The link as sockets see it (after hapsim, whose cut host's outage is timed from the lab's start).
