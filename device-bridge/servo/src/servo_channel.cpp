@@ -13,6 +13,7 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
       safety_(config.safety, device->Limits()),
       warn_age_ns_(static_cast<std::int64_t>(config.safety.warn_age_s * 1e9)),
       pose_deadband_(config.pose_deadband),
+      physics_reference_(config.physics_reference),
       delay_(config.model_delay_s),
       round_trip_s_(config.stats_window),
       model_age_s_(config.stats_window) {
@@ -58,7 +59,7 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   const std::size_t echo_slot = echo % kSentRing;
   const bool first_answer = counters_.models_taken == 0 || echo != counters_.last_echo_seq;
   const bool echo_remembered = first_answer && sent_seq_[echo_slot] == echo;
-  if (echo_remembered) {
+  if (echo_remembered && physics_reference_) {
     tick_.physics_at_echo_W_N =
         core::EvaluateLocalForce(incoming.model, sent_tip_W_m_[echo_slot], sent_velocity_W_m_per_s_[echo_slot]);
   }

@@ -29,6 +29,7 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
   channel_config.safety = config_.safety;
   channel_config.model_delay_s = config_.model_delay_s;
   channel_config.pose_deadband = config_.pose_deadband;
+  channel_config.physics_reference = config_.trace_capacity > 0;  // only the trace reads it
   ServoChannel channel(device_, channel_config);
   if (device_->RunsOwnServo()) {
     RunOnDeviceServo(channel, stop, &report);

@@ -23,7 +23,8 @@ bool ModelDeadband::Differs(const core::LocalForceModel& model, const core::Tool
 }
 
 bool ModelDeadband::Offer(const core::LocalForceModel& model, const core::ToolInput& tool, std::int64_t now_ns) {
-  const bool send = config_.jnd <= 0.0 || !have_sent_ || now_ns - sent_ns_ >= keepalive_ns_ || Differs(model, tool);
+  if (config_.jnd <= 0.0) return true;  // every tick: nothing to remember
+  const bool send = !have_sent_ || now_ns - sent_ns_ >= keepalive_ns_ || Differs(model, tool);
   if (send) {
     sent_ = model;
     sent_ns_ = now_ns;

@@ -191,7 +191,9 @@ TEST(ServoChannelPhysicsReference, AModelIsEvaluatedAtThePoseItEchoesAsTheServer
   script.depth_m = 0.01;
   SyntheticDevice device(script);
   common::LatestValue<ReceivedModel> inbox;
-  ServoChannel channel(&device, ChannelConfig{7, 0.001, test::WithoutRampIn(), 1024});
+  ChannelConfig config{7, 0.001, test::WithoutRampIn(), 1024};
+  config.physics_reference = true;
+  ServoChannel channel(&device, config);
   double z_of_pose_10 = 0.0;
   for (int k = 0; k <= 30; ++k) {
     channel.Sense(k * 0.001);

@@ -32,6 +32,7 @@ struct ChannelConfig {
   std::size_t stats_window = 1 << 17;  // recent samples kept for round-trip / model-age percentiles
   double model_delay_s = 0.0;          // measurement aid: every model held this long first (ModelDelay)
   PoseDeadbandConfig pose_deadband;    // which poses go out (default: every one)
+  bool physics_reference = false;      // fill ChannelTick::physics_at_echo_W_N (for traces; one more evaluation)
 };
 
 // What the last tick did, for the caller's trace and pooled statistics.
@@ -46,7 +47,7 @@ struct ChannelTick {
   // round trip from sensing that pose; else -1 (a later model for the same
   // pose, sent while the device sends sparsely, is no round trip).
   double round_trip_s = -1.0;
-  // When round_trip_s >= 0: the new model's force at the pose it echoes, as
+  // When round_trip_s >= 0 and the config asks for it: the new model's force at the pose it echoes, as
   // the server sent it (before the device's caps). The model reproduces the
   // physics' tool force at the pose it was stepped with, so this is the force
   // the physics computed for that pose — the reference for transparency.
@@ -99,6 +100,7 @@ class ServoChannel {
   std::int64_t warn_age_ns_;  // a held model younger than this is fresh: older arrivals are discarded
   SensedPose pose_;
   PoseDeadband pose_deadband_;
+  bool physics_reference_;
   bool pose_due_ = false;
   std::uint64_t next_seq_ = 0;
   std::int64_t sensed_ns_ = 0;
