@@ -19,6 +19,7 @@
 #include "hapsim/bridge/device_flags.h"
 #include "hapsim/common/flags.h"
 #include "hapsim/common/session_id.h"
+#include "hapsim/common/shutdown_deadline.h"
 #include "hapsim/servo/servo_loop.h"
 #include "stop_on_signal.h"
 
@@ -29,10 +30,10 @@ void PrintSafety(const hapsim::bridge::SafetyCounters& s, hapsim::bridge::Watchd
   using ull = unsigned long long;
   std::printf(
       "bridge: safety clamped %llu, rise-limited %llu, non-finite %llu, disarms %llu, watchdog %s "
-      "(warnings %llu, fades %llu)\n",
+      "(warnings %llu, fades %llu, delay warnings %llu)\n",
       static_cast<ull>(s.clamped), static_cast<ull>(s.rate_limited), static_cast<ull>(s.non_finite),
       static_cast<ull>(s.disarms), hapsim::bridge::ToString(watchdog), static_cast<ull>(s.warnings),
-      static_cast<ull>(s.fades));
+      static_cast<ull>(s.fades), static_cast<ull>(s.delay_warnings));
   std::printf(
       "bridge: device safety: models capped %llu, model jumps %llu (steps limited %llu), velocity-limited "
       "%llu, passivity corrected %llu (bounded %llu, uncorrected %llu), ramp-in %llu, derated %llu, arm toggles %llu\n",
@@ -67,6 +68,7 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
       static_cast<ull>(dds.server_switches(i)));
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
+  std::printf("bridge: physics age %s\n", FormatPercentiles(r.physics_age_s, 1e3, "ms").c_str());
   std::printf("bridge: force peak %.3f N (pressing %.3f N, withdrawn %.3f N)\n", c.peak_force_N,
               c.peak_force_pressing_N, c.peak_force_withdrawn_N);
   PrintSafety(r.safety, r.final_watchdog);
@@ -300,10 +302,16 @@ std::vector<hapsim::bridge::ServoReport> RunServoLoops(
   return reports;
 }
 
+// Teardown (the trace, the report, DDS) normally takes well under a second.
+constexpr double kTeardownLimitS = 3.0;
+
 // Every device's servo loop (one thread each; the first on this one) until
 // the scripts end, --seconds pass or a signal comes; the process's exit code.
 int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
               const std::vector<DeviceSpec>& specs) {
+  // Outlives the DDS participant, whose deletion can block for good when the
+  // network interface has vanished (shutdown_deadline.h).
+  hapsim::common::ShutdownDeadline deadline("hapsim-bridge");
   try {
     std::vector<std::unique_ptr<hapsim::bridge::HapticDevice>> devices;
     std::vector<std::string> sessions;
@@ -316,6 +324,7 @@ int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_c
     dds.Start();
 
     std::vector<hapsim::bridge::ServoReport> reports = RunServoLoops(f, safety_config, devices, sessions, dds);
+    deadline.Arm(kTeardownLimitS);  // the motors are at zero: nothing after this may hold the process
     for (std::size_t i = 0; i < sessions.size(); ++i) {
       if (dds.matched_servers(i) == 0) {
         spdlog::warn("no server serves session '{}' (nothing matched its DDS partition {}): is the session created?",
@@ -329,7 +338,8 @@ int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_c
     bool healthy = true;
     for (std::size_t i = 0; i < devices.size(); ++i)
       healthy &= ReportDevice(reports[i], *devices[i], sessions[i], dds, i);
-    return healthy ? 0 : 1;
+    deadline.set_exit_code(healthy ? 0 : 1);
+    return deadline.exit_code();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-bridge: %s\n", e.what());
     return 1;

@@ -61,6 +61,8 @@ nlohmann::json Report(const hapsim::netlab::LinkSwitch& link_switch, const hapsi
   nlohmann::json report;
   report["elapsed_s"] = run.elapsed_s;
   report["write_errors"] = run.write_errors;
+  report["vanished_hosts"] = run.vanished_hosts;
+  report["to_vanished_packets"] = run.to_vanished;
   report["lateness_us"] = {{"p50", run.lateness_s.p50 * 1e6},
                            {"p99", run.lateness_s.p99 * 1e6},
                            {"max", run.lateness_s.max * 1e6},

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include "hapsim/common/clock.h"
+
 namespace hapsim::viewer {
 
 std::shared_ptr<grpc::Channel> MakeViewerChannel(const Connection& connection) {
@@ -101,13 +103,17 @@ ViewerClient::StreamResult ViewerClient::RunStream(grpc::ClientContext* context,
   hapsim::v1::Frame wire;
   hapsim::v1::ViewerMessage ack;
   while (stream->Read(&wire)) {
+    const std::int64_t received_ns = common::SteadyNowNs();
     if (!TakeFrame(wire, first_stream)) {
       end = StreamEnd::kResubscribe;
       break;
     }
     // Acknowledge what is applied (or deliberately dropped): the server sends
     // at most ack_window frames ahead of this.
+    // With the time spent here, so the server tells the link's round trip from this viewer's work.
     ack.mutable_ack()->set_applied_seq(wire.seq());
+    ack.mutable_ack()->set_held_us(
+        static_cast<std::uint64_t>(std::max<std::int64_t>(0, common::SteadyNowNs() - received_ns) / 1000));
     stream->Write(ack);
     if (options_.max_frames > 0 && stats_.frames >= options_.max_frames) {
       end = StreamEnd::kLimit;

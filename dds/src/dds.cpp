@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "hapsim/dds/dds_default_config.h"
+#include "hapsim/dds/log_limit.h"
 
 namespace hapsim::dds {
 
@@ -24,6 +25,7 @@ std::string BuiltInConfig() {
 }  // namespace
 
 Participant::Participant(const Options& options) {
+  LimitDdsLogRate();
   std::string config;
   if (!options.config_file.empty()) {
     config = "file://" + options.config_file;

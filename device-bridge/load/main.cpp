@@ -14,6 +14,7 @@
 #include "hapsim/bridge/device_dds.h"
 #include "hapsim/bridge/device_flags.h"
 #include "hapsim/common/flags.h"
+#include "hapsim/common/shutdown_deadline.h"
 #include "hapsim/load/load_plan.h"
 #include "hapsim/load/load_report_format.h"
 #include "hapsim/load/load_runner.h"
@@ -192,11 +193,17 @@ int WriteLoadSummaries(const LoadFlags& f, const hapsim::bridge::LoadReport& rep
   return rc;
 }
 
+// After the run: the server's statistics, closing the sessions, DDS teardown.
+constexpr double kTeardownLimitS = 15.0;
+
 // The run, the table on stdout and the summaries; the process's exit code.
 int RunLoad(const LoadFlags& f, const std::vector<hapsim::bridge::LoadDevicePlan>& plan,
             const hapsim::bridge::LoadRunConfig& run_config) {
   std::vector<std::string> session_ids;
   for (const auto& d : plan) session_ids.push_back(d.session);
+  // Outlives the DDS participant, whose deletion can block for good when the
+  // network interface has vanished (shutdown_deadline.h).
+  hapsim::common::ShutdownDeadline deadline("hapsim-load");
   try {
     hapsim::viewer::SessionClient client(f.connection);  // throws on unreadable TLS files
     CloseSessionsAtExit close_at_exit;                   // declared after the client: runs first
@@ -209,12 +216,15 @@ int RunLoad(const LoadFlags& f, const std::vector<hapsim::bridge::LoadDevicePlan
 
     dds.Start();
     hapsim::bridge::LoadReport report = RunDevicesUntilStopped(f, runner, plan);
+    // What is left: the server's statistics and closing the sessions (gRPC, with deadlines), DDS teardown.
+    deadline.Arm(kTeardownLimitS);
     dds.Stop();
     if (!f.create_scene.empty() || f.server_stats) report.server = hapsim::bridge::FetchServerStats(client, plan);
 
     std::fputs(hapsim::bridge::FormatLoadTable(report).c_str(), stdout);
     std::fflush(stdout);
-    return WriteLoadSummaries(f, report);
+    deadline.set_exit_code(WriteLoadSummaries(f, report));
+    return deadline.exit_code();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-load: %s\n", e.what());
     return 1;

@@ -34,6 +34,10 @@ ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tu
   const std::int64_t end_ns = start_ns + static_cast<std::int64_t>(seconds * 1e9);
   const LinkSwitch::Deliver write_to_host = [&](std::size_t to, const std::vector<std::uint8_t>& packet,
                                                 std::int64_t due_ns) {
+    if (polls[to].fd < 0) {
+      ++result.to_vanished;
+      return;
+    }
     if (write(tun_fds[to], packet.data(), packet.size()) < 0) ++result.write_errors;
     lateness_s.Record(static_cast<double>(MonotonicNs() - due_ns) * 1e-9);
   };
@@ -49,10 +53,11 @@ ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tu
       break;
     }
     for (std::size_t host = 0; host < polls.size(); ++host) {
-      if (polls[host].revents & (POLLERR | POLLHUP | POLLNVAL)) {
-        result.ok = false;
-        result.error = "the TUN device of host " + link_switch->hosts()[host].name + " went away";
-        break;
+      if (polls[host].fd >= 0 && (polls[host].revents & (POLLERR | POLLHUP | POLLNVAL))) {
+        // The device was deleted: poll ignores a negative fd from now on.
+        result.vanished_hosts.push_back(link_switch->hosts()[host].name);
+        polls[host].fd = -1;
+        continue;
       }
       if (!(polls[host].revents & POLLIN)) continue;
       for (int i = 0; i < kReadBatch; ++i) {
@@ -61,7 +66,6 @@ ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tu
         link_switch->Send(host, buffer.data(), static_cast<std::size_t>(n), MonotonicNs());
       }
     }
-    if (!result.ok) break;
     link_switch->Advance(MonotonicNs(), write_to_host);
   }
   result.elapsed_s = static_cast<double>(MonotonicNs() - start_ns) * 1e-9;

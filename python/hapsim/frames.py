@@ -136,6 +136,7 @@ def subscribe(stub: viewer_pb2_grpc.ViewerServiceStub, session_id: str, metadata
         refused: Optional[FrameRefused] = None
         try:
             for message in call:
+                received_at = time.monotonic()
                 try:
                     cache.apply(message)
                 except FrameRefused as refusal:
@@ -143,9 +144,12 @@ def subscribe(stub: viewer_pb2_grpc.ViewerServiceStub, session_id: str, metadata
                     break
                 refusals = 0
                 yield _to_frame(message, cache)
-                # Acknowledged once the caller is back for more: the server
-                # then sends at most ack_window frames ahead of the caller.
-                outgoing.put(viewer_pb2.ViewerMessage(ack=viewer_pb2.ViewerAck(applied_seq=message.seq)))
+                # Acknowledged once the caller is back for more, saying how
+                # long that took: the server then sends at most ack_window
+                # frames ahead of the caller beyond those still on the wire.
+                held_us = int((time.monotonic() - received_at) * 1e6)
+                outgoing.put(viewer_pb2.ViewerMessage(
+                    ack=viewer_pb2.ViewerAck(applied_seq=message.seq, held_us=held_us)))
                 delivered += 1
                 if max_frames is not None and delivered >= max_frames:
                     return

@@ -13,6 +13,7 @@
 #include "hapsim/app/server_app.h"
 #include "hapsim/common/flags.h"
 #include "hapsim/common/logging.h"
+#include "hapsim/common/shutdown_deadline.h"
 #include "hapsim/core/scenes/scene.h"
 
 namespace {
@@ -204,14 +205,22 @@ void WaitForStopSignal() {
   io.run();  // returns once the signal handler has run
 }
 
+// Shutdown normally takes well under a second, at most the 2 s gRPC gives its calls.
+constexpr double kTeardownLimitS = 5.0;
+
 // Serves until SIGINT/SIGTERM; the process's exit code.
 int RunServer(const hapsim::service::ServerOptions& options, const ServerFlags& f) {
+  // Outlives the app: its DDS participant's deletion can block for good when
+  // the network interface has vanished (shutdown_deadline.h).
+  hapsim::common::ShutdownDeadline deadline("hapsim-server");
   try {
     hapsim::service::ServerApp app(options);
     if (!CreateStartupSessions(app.registry(), f.sessions)) return 2;
     // Written after the sessions exist, so a script that sees the file can use them.
     if (!f.port_file.empty() && !WritePortFile(f.port_file, app.bound_port())) return 1;
     WaitForStopSignal();
+    // gRPC gets 2 s to end its calls; sessions and DDS follow.
+    deadline.Arm(kTeardownLimitS);
     PrintSummary(app);
     app.Shutdown();
   } catch (const std::exception& e) {

@@ -28,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "fuzz_setup.h"
 #include "grid_session.h"
@@ -76,8 +77,10 @@ class Viewer final : public service::ViewerLink::Stream {
     if (result != service::ViewerLink::OfferResult::kSent) return;
     if (sent_ > 0 && now_ns - last_send_ns_ < min_interval_ns_) Broken("frames closer than 1 / max_rate_hz");
     last_send_ns_ = now_ns;
+    if (window_ > 0 && OverdueBefore(now_ns) >= window_) Broken("sent with ack_window frames overdue");
+    if (sent_ - acked_ >= service::ViewerLink::kMaxFramesInFlight) Broken("more frames in flight than the cap");
+    sent_ns_.push_back(now_ns);
     ++sent_;
-    if (window_ > 0 && sent_ - acked_ > window_) Broken("more frames unacknowledged than the ack window");
     v1::Frame frame;
     if (!frame.ParseFromString(wire_)) Broken("a frame that does not parse");
     std::string why;
@@ -94,14 +97,28 @@ class Viewer final : public service::ViewerLink::Stream {
     in_flight_ = false;
     link->OnWriteDone(ok);
   }
-  // The client acknowledges `seq` (what it applied, or anything at all).
-  void Ack(std::uint64_t seq) {
+  // The client acknowledges `seq` (what it applied, or anything at all) at
+  // now_ns, saying it held the frame held_us.
+  void Ack(std::uint64_t seq, std::uint64_t held_us, std::int64_t now_ns) {
     // Acknowledged frames: seqs [0, acked_) once seq names a frame sent.
     if (seq < sent_) acked_ = std::max(acked_, seq + 1);
-    link->OnAck(seq);
+    link->OnAck(seq, held_us, now_ns);
   }
-  void AckApplied() {
-    if (sent_ > 0) Ack(applied_seq_);
+  void AckApplied(std::int64_t now_ns) {
+    if (sent_ > 0) Ack(applied_seq_, 0, now_ns);
+  }
+
+  // Unacknowledged frames older than the link's measured round trip (with
+  // the link's margins: a quarter of it and 2 ms); every one of them before
+  // the link has measured it.
+  std::uint64_t OverdueBefore(std::int64_t now_ns) const {
+    const double rtt_s = link->link_round_trip_s();
+    if (rtt_s < 0.0) return sent_ - acked_;
+    const std::int64_t rtt_ns = std::llround(rtt_s * 1e9);
+    const std::int64_t on_wire_ns = rtt_ns + rtt_ns / 4 + 2'000'000;
+    std::uint64_t overdue = 0;
+    for (std::uint64_t seq = acked_; seq < sent_; ++seq) overdue += now_ns - sent_ns_[seq] > on_wire_ns ? 1 : 0;
+    return overdue;
   }
 
   // HAPSIM_FUZZ_TRACE=1: what one input did (to see that seeds reach sends).
@@ -137,6 +154,7 @@ class Viewer final : public service::ViewerLink::Stream {
   bool in_flight_ = false, finished_ = false;
   std::string wire_;
   std::uint64_t sent_ = 0, acked_ = 0, applied_seq_ = 0;
+  std::vector<std::int64_t> sent_ns_;  // by seq
   std::int64_t last_send_ns_ = 0;
 };
 
@@ -241,9 +259,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 4: if (viewer) viewer->WriteDone(true); break;
       case 5: if (viewer) viewer->WriteDone(false); break;
-      case 6: if (viewer) viewer->AckApplied(); break;
-      case 7:  // a small seq (maybe not sent yet) or a huge one
-        if (viewer) viewer->Ack(arg < 128 ? arg : (static_cast<std::uint64_t>(arg) << 56) | arg);
+      case 6:
+        if (viewer) viewer->AckApplied(now_ns);
+        break;
+      case 7:  // a small seq (maybe not sent yet) or a huge one, held up to 25.5 ms (maybe longer than the trip)
+        if (viewer) viewer->Ack(arg < 128 ? arg : (static_cast<std::uint64_t>(arg) << 56) | arg, arg * 100u, now_ns);
         break;
       case 8: if (viewer) viewer->link->OnCancelled(); break;
       case 9: if (viewer) viewer->link->Close(grpc::Status(grpc::StatusCode::NOT_FOUND, "session closed")); break;

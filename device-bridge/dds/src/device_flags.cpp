@@ -46,6 +46,9 @@ SafetyConfig SafetyFlags::ToConfig() const {
   c.warn_age_s = warn_ms * 1e-3;
   c.fade_start_age_s = fade_ms * 1e-3;
   c.disarm_age_s = disarm_ms * 1e-3;
+  c.delay_warn_age_s = delay_warn_ms * 1e-3;
+  c.delay_fade_start_age_s = delay_fade_ms * 1e-3;
+  c.delay_disarm_age_s = delay_disarm_ms * 1e-3;
   c.max_stiffness_N_per_m = max_stiffness_N_per_m;
   c.max_damping_Ns_per_m = max_damping_Ns_per_m;
   c.max_velocity_m_per_s = max_velocity_m_per_s;
@@ -61,9 +64,14 @@ SafetyConfig SafetyFlags::ToConfig() const {
 void AddSafetyFlags(common::Flags& flags, SafetyFlags* s) {
   flags.Add("max-force-n", &s->max_force_N, "force clamp [N] (Phantom Omni peak: 3.3 N)");
   flags.Add("max-force-rise-n-per-s", &s->max_rise_N_per_s, "largest rise of the force magnitude [N/s]");
-  flags.Add("watchdog-warn-ms", &s->warn_ms, "model older than this: warning [ms]");
-  flags.Add("watchdog-fade-ms", &s->fade_ms, "model older than this: force fades out [ms]");
-  flags.Add("watchdog-disarm-ms", &s->disarm_ms, "model older than this: zero force until a fresh model [ms]");
+  flags.Add("watchdog-warn-ms", &s->warn_ms, "no new model for this long: warning [ms]");
+  flags.Add("watchdog-fade-ms", &s->fade_ms, "no new model for this long: force fades out [ms]");
+  flags.Add("watchdog-disarm-ms", &s->disarm_ms, "no new model for this long: zero force until a fresh model [ms]");
+  flags.Add("watchdog-delay-warn-ms", &s->delay_warn_ms,
+            "model's physics older than this (round trip + gap): felt-lag warning [ms]");
+  flags.Add("watchdog-delay-fade-ms", &s->delay_fade_ms, "model's physics older than this: force fades out [ms]");
+  flags.Add("watchdog-delay-disarm-ms", &s->delay_disarm_ms,
+            "model's physics older than this: zero force until a model with recent physics [ms]");
   flags.Add("max-stiffness-n-per-m", &s->max_stiffness_N_per_m,
             "stiffest spring rendered [N/m] (lower if the device says so; Omni 700, Touch 400)");
   flags.Add("max-damping-ns-per-m", &s->max_damping_Ns_per_m, "largest damping rendered [N s/m]");

@@ -17,6 +17,7 @@ void AddCounts(const LoadFlow& f, LoadFlow* sum) {
   sum->safety.warnings += f.safety.warnings;
   sum->safety.fades += f.safety.fades;
   sum->safety.disarms += f.safety.disarms;
+  sum->safety.delay_warnings += f.safety.delay_warnings;
 }
 
 }  // namespace

@@ -38,6 +38,8 @@ void AddFlow(Json& j, const LoadFlow& f) {
   j["echo_regressions"] = f.echo_regressions;
   j["round_trip_ms"] = PercentilesMs(f.round_trip_s);
   j["model_age_ms"] = PercentilesMs(f.model_age_s);
+  j["physics_age_ms"] = PercentilesMs(f.physics_age_s);
+  j["watchdog_delay_warnings"] = f.safety.delay_warnings;
   j["watchdog_warnings"] = f.safety.warnings;
   j["watchdog_fades"] = f.safety.fades;
   j["watchdog_disarms"] = f.safety.disarms;

@@ -40,6 +40,7 @@ LoadRunner::LoadRunner(const std::vector<LoadDevicePlan>& plan, const LoadRunCon
       write_failures_(plan.size(), 0),
       pooled_round_trip_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()),
       pooled_model_age_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()),
+      pooled_physics_age_s_(StatsWindowPerDevice(config.run_seconds, config.rate_hz, plan.size()) * plan.size()),
       interval_round_trip_s_(kIntervalLowestS, kIntervalHighestS, kIntervalBinRatio),
       interval_model_age_s_(kIntervalLowestS, kIntervalHighestS, kIntervalBinRatio),
       interval_end_s_(config.interval_s) {
@@ -74,6 +75,7 @@ void LoadRunner::StepDevice(std::size_t i, double t_s) {
     pooled_model_age_s_.Record(tick.model_age_s);
     interval_model_age_s_.Record(tick.model_age_s);
   }
+  if (std::isfinite(tick.physics_age_s) && tick.physics_age_s >= 0.0) pooled_physics_age_s_.Record(tick.physics_age_s);
 }
 
 void LoadRunner::CloseInterval(double end_s) {
@@ -132,6 +134,7 @@ LoadReport LoadRunner::Report(double elapsed_s) const {
     d.flow.echo_regressions = c.echo_regressions;
     d.flow.round_trip_s = ch.RoundTrip();
     d.flow.model_age_s = ch.ModelAge();
+    d.flow.physics_age_s = ch.PhysicsAge();
     d.flow.safety = ch.safety_counters();
     d.first_echo_seq = c.first_echo_seq;
     d.last_echo_seq = c.last_echo_seq;
@@ -141,6 +144,7 @@ LoadReport LoadRunner::Report(double elapsed_s) const {
   r.total = SumDevices(r.devices);
   r.total.flow.round_trip_s = pooled_round_trip_s_.Summary();
   r.total.flow.model_age_s = pooled_model_age_s_.Summary();
+  r.total.flow.physics_age_s = pooled_physics_age_s_.Summary();
   r.models_for_unknown_devices = router_->models_for_unknown_devices();
   r.models_for_other_sessions = router_->models_for_other_sessions();
   for (std::size_t i = 0; i < router_->devices(); ++i)

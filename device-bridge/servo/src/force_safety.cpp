@@ -1,5 +1,7 @@
 #include "hapsim/servo/force_safety.h"
 
+#include <algorithm>
+
 #include "hapsim/servo/rendering_cap.h"
 
 namespace hapsim::bridge {
@@ -65,7 +67,7 @@ void ForceSafety::CountEscalation(WatchdogState next) {
 // stage's force. The states come first: the watchdog's and the arm
 // button's decide the ramp-in of stage 4 and what stage 5 sees.
 Eigen::Vector3d ForceSafety::Apply(const SafetyInput& in) {
-  const double watchdog = WatchdogScale(in.model_age_s);
+  const double watchdog = WatchdogScale(in.model_age_s, in.physics_age_s);
   if (arming_.Update(in.buttons, Passes(state_), in.dt_s)) ++counters_.arm_toggles;
   const double pass_on = arming_.armed() ? watchdog : 0.0;
   const Eigen::Vector3d& v = in.velocity_W_m_per_s;
@@ -136,25 +138,41 @@ void ForceSafety::Derate(Eigen::Vector3d& f, double pass_on, double dt_s) {
   if (continuous_.Apply(f, pass_on, dt_s)) ++counters_.derated;
 }
 
-double ForceSafety::WatchdogScale(double age_s) {
-  double scale = 1.0;
-  WatchdogState next;
+namespace {
+struct AgeVerdict {
+  WatchdogState state;
+  double scale;  // of the force, in [0, 1]
+};
+
+// One age against its warn / fade start / disarm thresholds.
+AgeVerdict JudgeAge(double age_s, double warn_s, double fade_start_s, double disarm_s) {
+  if (age_s < warn_s) return {WatchdogState::kFresh, 1.0};
+  if (age_s < fade_start_s) return {WatchdogState::kWarn, 1.0};
+  if (age_s < disarm_s) return {WatchdogState::kFading, (disarm_s - age_s) / (disarm_s - fade_start_s)};
+  return {WatchdogState::kDisarmed, 0.0};
+}
+}  // namespace
+
+double ForceSafety::WatchdogScale(double age_s, double physics_age_s) {
   if (age_s < 0.0) {
-    next = WatchdogState::kNoModel;
-    scale = 0.0;
-  } else if (age_s < config_.warn_age_s) {
-    next = WatchdogState::kFresh;
-  } else if (age_s < config_.fade_start_age_s) {
-    next = WatchdogState::kWarn;
-  } else if (age_s < config_.disarm_age_s) {
-    next = WatchdogState::kFading;
-    scale = (config_.disarm_age_s - age_s) / (config_.disarm_age_s - config_.fade_start_age_s);
-  } else {
-    next = WatchdogState::kDisarmed;
-    scale = 0.0;
+    CountEscalation(WatchdogState::kNoModel);
+    state_ = WatchdogState::kNoModel;
+    return 0.0;
   }
-  // Once disarmed, stay at zero until a fresh model re-arms.
-  if (state_ == WatchdogState::kDisarmed && next != WatchdogState::kFresh) {
+  const AgeVerdict gap = JudgeAge(age_s, config_.warn_age_s, config_.fade_start_age_s, config_.disarm_age_s);
+  AgeVerdict physics{WatchdogState::kFresh, 1.0};
+  if (physics_age_s >= 0.0) {
+    physics =
+        JudgeAge(physics_age_s, config_.delay_warn_age_s, config_.delay_fade_start_age_s, config_.delay_disarm_age_s);
+  }
+  if (Severity(physics.state) >= 1 && Severity(physics_state_) < 1) ++counters_.delay_warnings;
+  physics_state_ = physics.state;
+  WatchdogState next = Severity(physics.state) > Severity(gap.state) ? physics.state : gap.state;
+  double scale = std::min(gap.scale, physics.scale);
+  // Once disarmed, stay at zero until a model arrives that is fresh and
+  // describes physics recent enough to render at full force.
+  const bool rearms = gap.state == WatchdogState::kFresh && Severity(physics.state) <= 1;
+  if (state_ == WatchdogState::kDisarmed && !rearms) {
     next = WatchdogState::kDisarmed;
     scale = 0.0;
   }

@@ -44,6 +44,11 @@ void ValidateSafetyConfig(const SafetyConfig& c) {
   if (!(c.warn_age_s > 0.0 && c.warn_age_s <= c.fade_start_age_s && c.fade_start_age_s < c.disarm_age_s)) {
     throw std::invalid_argument("watchdog ages must satisfy 0 < warn <= fade start < disarm");
   }
+  if (!(c.delay_warn_age_s > 0.0 && c.delay_warn_age_s <= c.delay_fade_start_age_s &&
+        c.delay_fade_start_age_s < c.delay_disarm_age_s && c.delay_disarm_age_s <= 60.0)) {
+    throw std::invalid_argument(
+        "watchdog physics ages must satisfy 0 < delay warn <= delay fade start < delay disarm <= 60 s");
+  }
   ValidateNewLimits(c);
 }
 

@@ -1,6 +1,7 @@
 #include "hapsim/servo/servo_channel.h"
 
 #include <algorithm>
+#include <limits>
 #include <string_view>
 
 #include "hapsim/common/clock.h"
@@ -16,7 +17,8 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
       physics_reference_(config.physics_reference),
       delay_(config.model_delay_s),
       round_trip_s_(config.stats_window),
-      model_age_s_(config.stats_window) {
+      model_age_s_(config.stats_window),
+      physics_age_s_(config.stats_window) {
   pose_.device_id = config.device_id;
   sent_seq_.fill(~0ull);
 }
@@ -50,8 +52,9 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   // A model computed from an older pose than the held one was overtaken in
   // transit: it describes where the tool was, so it is discarded. Only while
   // the held model is fresh — if the stream stalled (held model older than
-  // the watchdog's warning age), whatever arrives is newer than what we hold.
-  const bool held_is_fresh = have_model_ && sensed_ns_ - model_.received_ns <= warn_age_ns_;
+  // the watchdog's warning age), whatever arrives is newer than what we hold;
+  // so is anything after a held model answering no pose of ours (another run's).
+  const bool held_is_fresh = have_model_ && physics_known_ && sensed_ns_ - model_.received_ns <= warn_age_ns_;
   if (held_is_fresh && echo < counters_.last_echo_seq) {
     ++counters_.echo_regressions;
     return false;
@@ -71,6 +74,9 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   tick_.requested_W_N = core::EvaluateLocalForce(incoming.model, r.tip_W_m, r.velocity_W_m_per_s);
   if (have_model_) safety_.OfferModel(model_.model, tick_.requested_W_N, r.tip_W_m, r.velocity_W_m_per_s);
   model_ = incoming;
+  // Later models for the same pose answer it too (their physics is as old).
+  physics_known_ = sent_seq_[echo_slot] == echo;
+  if (physics_known_) physics_sensed_ns_ = sent_ns_[echo_slot];
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
   ++counters_.models_taken;
@@ -90,6 +96,12 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   tick_.model_age_s =
       have_model_ ? std::max(0.0, static_cast<double>(sensed_ns_ - model_.received_ns) * 1e-9) : -1.0;
   if (have_model_) model_age_s_.Record(tick_.model_age_s);
+  tick_.physics_age_s = -1.0;
+  if (have_model_) {
+    tick_.physics_age_s = physics_known_ ? std::max(0.0, static_cast<double>(sensed_ns_ - physics_sensed_ns_) * 1e-9)
+                                         : std::numeric_limits<double>::infinity();
+    if (physics_known_) physics_age_s_.Record(tick_.physics_age_s);
+  }
 
   const DeviceReading& r = tick_.reading;
   if (!took_model) {
@@ -102,6 +114,7 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   in.velocity_W_m_per_s = r.velocity_W_m_per_s;
   in.buttons = r.buttons;
   in.model_age_s = tick_.model_age_s;
+  in.physics_age_s = tick_.physics_age_s;
   in.dt_s = period_s_;
   tick_.force_W_N = safety_.Apply(in);
   device_->CommandForce(tick_.force_W_N);

@@ -37,6 +37,7 @@ ServoReport ServoLoop::Run(const std::atomic<bool>& stop) {
     RunOnTicker(channel, stop, &report);
   }
   report.model_age_s = channel.ModelAge();
+  report.physics_age_s = channel.PhysicsAge();
   report.round_trip_s = channel.RoundTrip();
   report.channel = channel.counters();
   report.safety = channel.safety_counters();
@@ -88,9 +89,9 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
   if (report->trace.size() < config_.trace_capacity) {
     const ChannelCounters& c = channel.counters();
     report->trace.push_back({t, reading.tip_W_m, reading.orientation_W, tick.force_W_N, tick.requested_W_N,
-                             tick.model_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0, reading.phase,
-                             static_cast<std::uint8_t>(channel.model_state()), channel.watchdog(), channel.pose().seq,
-                             channel.pose_due(), tick.took_model, kUnknownForce_W_N});
+                             tick.model_age_s * 1e3, tick.physics_age_s * 1e3, c.models_taken > 0 ? c.last_echo_seq : 0,
+                             reading.phase, static_cast<std::uint8_t>(channel.model_state()), channel.watchdog(),
+                             channel.pose().seq, channel.pose_due(), tick.took_model, kUnknownForce_W_N});
   }
   // The physics' answer to an earlier tick's pose goes into that tick's row.
   if (tick.round_trip_s >= 0.0 && !report->trace.empty()) {
@@ -106,23 +107,23 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows) {
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) return false;
-  std::fprintf(
-      f,
-      "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
-      "echo_pose_seq,model_state,watchdog,phase,pose_seq,phys_fx_N,phys_fy_N,phys_fz_N,pose_sent,model_taken\n");
+  std::fprintf(f,
+               "t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,req_fx_N,req_fy_N,req_fz_N,model_age_ms,"
+               "echo_pose_seq,model_state,watchdog,phase,pose_seq,phys_fx_N,phys_fy_N,phys_fz_N,pose_sent,model_taken,"
+               "physics_age_ms\n");
   for (const auto& r : rows) {
     // t_s to the nanosecond: after a late tick the servo catches up with
     // wakes microseconds apart, which 6 decimals would write as one time
     // (and the replay backend needs them increasing).
     std::fprintf(f,
                  "%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.3f,%llu,%u,%s,%s,%llu,%.6f,%."
-                 "6f,%.6f,%d,%d\n",
+                 "6f,%.6f,%d,%d,%.3f\n",
                  r.t_s, r.tip_W_m.x(), r.tip_W_m.y(), r.tip_W_m.z(), r.orientation_W.w(), r.orientation_W.x(),
                  r.orientation_W.y(), r.orientation_W.z(), r.force_W_N.x(), r.force_W_N.y(), r.force_W_N.z(),
                  r.requested_W_N.x(), r.requested_W_N.y(), r.requested_W_N.z(), r.model_age_ms,
                  static_cast<unsigned long long>(r.echo_pose_seq), static_cast<unsigned>(r.model_state),
                  ToString(r.watchdog), r.phase, static_cast<unsigned long long>(r.pose_seq), r.physics_W_N.x(),
-                 r.physics_W_N.y(), r.physics_W_N.z(), r.pose_sent ? 1 : 0, r.model_taken ? 1 : 0);
+                 r.physics_W_N.y(), r.physics_W_N.z(), r.pose_sent ? 1 : 0, r.model_taken ? 1 : 0, r.physics_age_ms);
   }
   return std::fclose(f) == 0;
 }

@@ -6,6 +6,7 @@
 #include <mutex>
 
 #include "hapsim/api/call_status.h"
+#include "hapsim/common/clock.h"
 #include "hapsim/streaming/viewer_link.h"
 
 namespace hapsim::service {
@@ -47,7 +48,7 @@ class SubscribeReactor final : public grpc::ServerBidiReactor<ViewerMessage, Fra
         return;
       }
     } else if (incoming_.has_ack()) {
-      link_->OnAck(incoming_.ack().applied_seq());
+      link_->OnAck(incoming_.ack().applied_seq(), incoming_.ack().held_us(), common::SteadyNowNs());
     }
     StartRead(&incoming_);
   }

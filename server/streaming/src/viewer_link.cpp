@@ -20,8 +20,7 @@ ViewerLink::OfferResult ViewerLink::Offer(const std::shared_ptr<const SceneSnaps
                        std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   if (!stream_ || finished_ || !snapshot || snapshot->id == last_snapshot_id_) return OfferResult::kNotNeeded;
-  const bool window_full = ack_window_ > 0 && encoder_.next_seq - acked_frames_ >= ack_window_;
-  if (write_in_flight_ || window_full) {
+  if (write_in_flight_ || WindowFull(now_ns)) {
     const bool superseded = held_snapshot_id_ != 0 && held_snapshot_id_ != snapshot->id;
     held_snapshot_id_ = snapshot->id;
     if (!superseded) return OfferResult::kBusy;
@@ -30,6 +29,7 @@ ViewerLink::OfferResult ViewerLink::Offer(const std::shared_ptr<const SceneSnaps
   }
   held_snapshot_id_ = 0;
   if (now_ns - last_send_ns_ < min_interval_ns_) return OfferResult::kRateLimited;
+  sent_ns_[encoder_.next_seq % kMaxFramesInFlight] = now_ns;
   EncodeFrame(*snapshot, history, &encoder_, &frame_);
   last_snapshot_id_ = snapshot->id;
   last_send_ns_ = now_ns;
@@ -50,10 +50,54 @@ void ViewerLink::OnWriteDone(bool ok) {
   }
 }
 
-void ViewerLink::OnAck(std::uint64_t applied_seq) {
+namespace {
+constexpr std::int64_t kRttWindowNs = 10'000'000'000;
+// A frame younger than the round trip plus this margin may still be on its
+// way: the viewer's scheduling and the server's own write path.
+constexpr std::int64_t kInFlightMarginNs = 2'000'000;
+}  // namespace
+
+bool ViewerLink::WindowFull(std::int64_t now_ns) const {
+  if (ack_window_ == 0) return false;
+  const std::uint64_t unacked = encoder_.next_seq - acked_frames_;
+  if (unacked >= kMaxFramesInFlight) return true;
+  const std::int64_t rtt_ns = LinkRoundTripNs();
+  if (rtt_ns < 0) return unacked >= ack_window_;  // nothing measured: count every frame
+  const std::int64_t on_wire_ns = rtt_ns + rtt_ns / 4 + kInFlightMarginNs;
+  std::uint64_t overdue = 0;  // seqs are sent in order: the oldest come first
+  for (std::uint64_t seq = acked_frames_; seq < encoder_.next_seq; ++seq) {
+    if (now_ns - sent_ns_[seq % kMaxFramesInFlight] <= on_wire_ns) break;
+    ++overdue;
+  }
+  return overdue >= ack_window_;
+}
+
+std::int64_t ViewerLink::LinkRoundTripNs() const {
+  if (rtt_min_ns_ < 0) return rtt_previous_min_ns_;
+  if (rtt_previous_min_ns_ < 0) return rtt_min_ns_;
+  return std::min(rtt_min_ns_, rtt_previous_min_ns_);
+}
+
+void ViewerLink::OnAck(std::uint64_t applied_seq, std::uint64_t held_us, std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   // Acks only move forward and never past what was sent.
-  if (applied_seq < encoder_.next_seq) acked_frames_ = std::max(acked_frames_, applied_seq + 1);
+  if (applied_seq >= encoder_.next_seq || applied_seq < acked_frames_) return;
+  acked_frames_ = applied_seq + 1;
+  if (encoder_.next_seq - applied_seq > kMaxFramesInFlight) return;  // its send time was overwritten
+  const std::int64_t held_ns = static_cast<std::int64_t>(std::min<std::uint64_t>(held_us, 60'000'000)) * 1000;
+  const std::int64_t rtt_ns = std::max<std::int64_t>(0, now_ns - sent_ns_[applied_seq % kMaxFramesInFlight] - held_ns);
+  if (now_ns - rtt_window_start_ns_ > kRttWindowNs) {
+    rtt_previous_min_ns_ = rtt_min_ns_;
+    rtt_min_ns_ = -1;
+    rtt_window_start_ns_ = now_ns;
+  }
+  if (rtt_min_ns_ < 0 || rtt_ns < rtt_min_ns_) rtt_min_ns_ = rtt_ns;
+}
+
+double ViewerLink::link_round_trip_s() const {
+  std::lock_guard lock(mutex_);
+  const std::int64_t ns = LinkRoundTripNs();
+  return ns < 0 ? -1.0 : static_cast<double>(ns) * 1e-9;
 }
 
 void ViewerLink::OnCancelled() {

@@ -126,8 +126,8 @@ TEST(ReplayDevice, ATraceWithCatchUpTicksMicrosecondsApartReplays) {
   const double times_s[] = {1.000000, 1.0020001, 1.0020004, 1.0020008, 1.003};  // a late tick, then catch-up
   for (int k = 0; k < 5; ++k)
     rows.push_back({times_s[k], Eigen::Vector3d(0.0, 0.0, -1e-4 * k), Eigen::Quaterniond::Identity(),
-                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), -1.0, 0, "press", 0, WatchdogState::kNoModel,
-                    static_cast<std::uint64_t>(k), true, false, Eigen::Vector3d::Zero()});
+                    Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), -1.0, -1.0, 0, "press", 0,
+                    WatchdogState::kNoModel, static_cast<std::uint64_t>(k), true, false, Eigen::Vector3d::Zero()});
   const std::string path =
       (std::filesystem::temp_directory_path() / ("hapsim_trace_" + std::to_string(::getpid()) + ".csv")).string();
   ASSERT_TRUE(WriteTraceCsv(path, rows));

@@ -87,7 +87,11 @@ TEST_F(ServoChannelTest, AnEchoOfAPoseNeverSentGivesNoRoundTrip) {
 
 TEST_F(ServoChannelTest, AModelOvertakenInTransitIsDiscardedAndCounted) {
   // Echo 1 arrives after echo 2 (reordered): the tool keeps the force of the
-  // newer model, 2 mm x 500 N/m, not echo 1's 5 mm.
+  // newer model, 2 mm x 500 N/m, not echo 1's 5 mm. Poses 0-3 were sensed first.
+  for (int k = 0; k < 4; ++k) {
+    channel_.Sense(0.0);
+    channel_.Actuate(inbox_);
+  }
   for (std::uint64_t echo : {0u, 2u, 1u, 3u}) {
     channel_.Sense(0.0);
     ReceivedModel m = ContactModel(echo, common::SteadyNowNs());

@@ -66,9 +66,11 @@ class ServerAppTest : public ::testing::Test {
     stream->Write(hello);
     return stream;
   }
-  static void Ack(Stream* stream, std::uint64_t seq) {
+  // held_us: how long this viewer worked on the frame before acking it.
+  static void Ack(Stream* stream, std::uint64_t seq, std::uint64_t held_us = 0) {
     hapsim::v1::ViewerMessage ack;
     ack.mutable_ack()->set_applied_seq(seq);
+    ack.mutable_ack()->set_held_us(held_us);
     stream->Write(ack);
   }
 
@@ -498,13 +500,15 @@ TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
   double worst_lag_s = 0.0, last_sim = -1.0, largest_step_s = 0.0;
   for (int i = 0; i < 25; ++i) {  // a viewer that handles 10 frames per second
     ASSERT_TRUE(reader->Read(&frame));
+    const auto read_at = std::chrono::steady_clock::now();
     EXPECT_EQ(frame.seq(), expected_seq++);  // contiguous despite coalescing
     const double lag = Info("slow").sim_time_s() - frame.sim_time_s();
     if (i >= 5) worst_lag_s = std::max(worst_lag_s, lag);
     if (last_sim >= 0) largest_step_s = std::max(largest_step_s, frame.sim_time_s() - last_sim);
     last_sim = frame.sim_time_s();
     std::this_thread::sleep_for(100ms);
-    Ack(reader.get(), frame.seq());
+    const auto held = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - read_at);
+    Ack(reader.get(), frame.seq(), static_cast<std::uint64_t>(held.count()));
   }
   // ~2.5 s of 60 Hz snapshots (~150) met 25 reads: every snapshot that found
   // the window full was coalesced, and the session reports it.

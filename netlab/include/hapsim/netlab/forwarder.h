@@ -15,7 +15,11 @@ struct ForwarderResult {
   bool ok = true;
   std::string error;  // when !ok: the I/O call that failed
   double elapsed_s = 0.0;
-  std::uint64_t write_errors = 0;  // a TUN write that failed (the host's device went away)
+  std::uint64_t write_errors = 0;  // a TUN write that failed
+  // Hosts whose TUN device went away (deleted: a pulled cable); the others
+  // are still served, and packets for a vanished host are dropped and counted.
+  std::vector<std::string> vanished_hosts;
+  std::uint64_t to_vanished = 0;
   common::Percentiles lateness_s;  // written minus due, per delivered packet
 };
 

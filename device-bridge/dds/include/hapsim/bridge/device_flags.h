@@ -24,7 +24,8 @@ void AddScriptFlags(common::Flags& flags, ScriptFlags* script, const std::string
 
 struct SafetyFlags {
   double max_force_N = SafetyConfig{}.max_force_N, max_rise_N_per_s = SafetyConfig{}.max_rise_N_per_s;
-  double warn_ms = 20.0, fade_ms = 50.0, disarm_ms = 100.0;
+  double warn_ms = 20.0, fade_ms = 50.0, disarm_ms = 100.0;                       // stream gap
+  double delay_warn_ms = 50.0, delay_fade_ms = 1000.0, delay_disarm_ms = 2000.0;  // physics age
   double max_stiffness_N_per_m = SafetyConfig{}.max_stiffness_N_per_m;
   double max_damping_Ns_per_m = SafetyConfig{}.max_damping_Ns_per_m;
   double max_velocity_m_per_s = SafetyConfig{}.max_velocity_m_per_s;

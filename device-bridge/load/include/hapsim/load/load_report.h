@@ -20,7 +20,8 @@ struct LoadFlow {
   std::uint64_t models_used = 0;      // taken by the servo thread (newest per tick; older ones overwritten)
   std::uint64_t echo_regressions = 0;
   common::Percentiles round_trip_s;  // pose sensed -> model echoing it received
-  common::Percentiles model_age_s;   // age of the model rendered, per tick
+  common::Percentiles model_age_s;   // stream gap of the model rendered, per tick
+  common::Percentiles physics_age_s;  // its physics age (round trip + gap), per tick
   SafetyCounters safety;              // warnings/fades/disarms are events, clamps are ticks
 };
 

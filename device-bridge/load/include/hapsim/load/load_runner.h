@@ -57,7 +57,7 @@ class LoadRunner {
   std::vector<std::unique_ptr<SyntheticDevice>> devices_;
   std::vector<ServoChannel> channels_;
   std::vector<std::uint64_t> poses_sent_, write_failures_;
-  common::SampleWindow pooled_round_trip_s_, pooled_model_age_s_;
+  common::SampleWindow pooled_round_trip_s_, pooled_model_age_s_, pooled_physics_age_s_;
   common::LogHistogram interval_round_trip_s_, interval_model_age_s_;
   std::vector<LoadInterval> intervals_;  // reserved up front
   std::uint64_t intervals_dropped_ = 0;

@@ -17,12 +17,18 @@
 //  5. continuous-force derating (continuous_force_limit.h): after the clamp,
 //     whose peak it averages; before the watchdog and the arm button, whose
 //     zeroing it sees as cooling;
-//  6. staleness watchdog on the age of the newest force model (bridge clock):
-//     fresh < warn_age; warn (logged) from warn_age; fade linearly from
-//     fade_start_age to zero at disarm_age; disarmed (zero force) beyond,
-//     until a fresh model arrives. No model yet: zero force. Entering warn,
-//     fading or disarmed is counted as an event; a jump past a state (a
-//     stall: fresh -> disarmed) counts every state the age went through;
+//  6. staleness watchdog on two ages of the held force model (bridge clock):
+//     the stream gap (since it arrived: the stream stopped) and the physics
+//     age (since the stylus was at the pose it answers: the round trip plus
+//     the gap — how late the trainee feels the tissue). Each has its own
+//     thresholds (safety_config.h): fresh below warn; warn (counted) from
+//     warn; fade linearly from fade start to zero at disarm; disarmed (zero
+//     force) beyond. The worse of the two states holds, the smaller of the
+//     two factors scales the force. Disarmed lasts until a model arrives
+//     whose gap is fresh and whose physics age is below its fade start.
+//     No model yet: zero force. Entering warn, fading or disarmed is counted
+//     as an event; a jump past a state (a stall: fresh -> disarmed) counts
+//     every state the age went through;
 //  7. arm button: disarmed -> zero;
 //  8. rise-rate limit: the magnitude may grow by at most max_rise_N_per_s
 //     per second (so re-arming, a velocity-limit release or a sudden model
@@ -58,6 +64,7 @@ struct SafetyCounters {
   std::uint64_t warnings = 0;     // times the model age crossed warn_age (entered warn or beyond)
   std::uint64_t fades = 0;        // times it crossed fade_start_age (entered fading or beyond)
   std::uint64_t disarms = 0;      // times the watchdog disarmed
+  std::uint64_t delay_warnings = 0;         // times the physics age crossed delay_warn_age (felt lag)
   std::uint64_t velocity_limited = 0;       // ticks zeroed: stylus faster than max_velocity
   std::uint64_t passivity_corrected = 0;    // ticks the passivity controller damped, E back to 0
   std::uint64_t passivity_bounded = 0;      // ticks its damping hit the cap: force along the motion removed too
@@ -75,7 +82,9 @@ struct SafetyInput {
   Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();       // what the local force model asks for
   Eigen::Vector3d velocity_W_m_per_s = Eigen::Vector3d::Zero();  // the stylus's
   std::uint32_t buttons = 0;                                     // the stylus's buttons, bit per button
-  double model_age_s = -1.0;                                     // age of the newest model; negative: none has arrived
+  double model_age_s = -1.0;    // stream gap: since the held model arrived; negative: none has
+  double physics_age_s = -1.0;  // since the stylus was at the pose the held model answers (+inf: not one of ours);
+                                // negative: not known, the gap alone decides
   double dt_s = 0.001;                                           // servo period
 };
 
@@ -112,13 +121,14 @@ class ForceSafety {
   void ControlPassivity(Eigen::Vector3d& f_W_N, const Eigen::Vector3d& v_W_m_per_s, double dt_s);
   void ClampMagnitude(Eigen::Vector3d& f_W_N);
   void Derate(Eigen::Vector3d& f_W_N, double pass_on, double dt_s);
-  double WatchdogScale(double model_age_s);
+  double WatchdogScale(double model_age_s, double physics_age_s);
   void LimitRise(Eigen::Vector3d& f_W_N, double dt_s);  // against last_W_N_
   void CountEscalation(WatchdogState next);
 
   SafetyConfig config_;
   EffectiveLimits limits_;
   WatchdogState state_ = WatchdogState::kNoModel;
+  WatchdogState physics_state_ = WatchdogState::kFresh;  // the physics age's verdict alone (counts delay warnings)
   Arming arming_;
   PassivityController passivity_;
   ContinuousForceLimit continuous_;

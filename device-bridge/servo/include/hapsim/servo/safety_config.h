@@ -10,9 +10,22 @@ namespace hapsim::bridge {
 struct SafetyConfig {
   double max_force_N = 2.5;        // magnitude clamp (device peak; Omni: 3.3 N)
   double max_rise_N_per_s = 50.0;  // 0 -> 2.5 N takes 50 ms
+  // Stream gap: time since the newest model arrived (the stream stopped).
   double warn_age_s = 0.020;
   double fade_start_age_s = 0.050;
   double disarm_age_s = 0.100;
+  // Physics age: time since the stylus was at the pose the held model
+  // answers (the round trip plus the gap; bridge clock only, no clock
+  // sync). A model describes the tissue as it was then, so this is how late
+  // the trainee feels it. 50 ms: force-feedback delays from ~30-50 ms are
+  // noticed, so the lag is reported; rendering from a local model stays
+  // stable far beyond (model-mediated teleoperation: ~1 s round trip), so
+  // force fades only from 1 s and is zero from 2 s — a link that slow
+  // cannot show a trainee the tissue they are touching. Deadband coding
+  // adds up to both keep-alives to this age.
+  double delay_warn_age_s = 0.050;
+  double delay_fade_start_age_s = 1.0;
+  double delay_disarm_age_s = 2.0;
 
   // Caps on what a model may ask the device to render, applied to every
   // model taken. CHAI3D's device table (CPhantomDevices.cpp): PHANTOM Omni

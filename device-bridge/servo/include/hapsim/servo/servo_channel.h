@@ -41,7 +41,11 @@ struct ChannelTick {
   Eigen::Vector3d requested_W_N = Eigen::Vector3d::Zero();  // from the local model (capped; before safety)
   Eigen::Vector3d blended_W_N = Eigen::Vector3d::Zero();    // handed to the chain: requested, or a model jump's blend
   Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
-  double model_age_s = -1.0;   // age of the model used; -1: none yet
+  double model_age_s = -1.0;                                // stream gap: since the model used arrived; -1: none yet
+  // Since the stylus was at the pose the model used answers (the round trip
+  // plus the gap: how late the tissue is felt); -1: none yet, +inf: it
+  // answers no pose this channel remembers (another run's, or > 4 s old).
+  double physics_age_s = -1.0;
   bool took_model = false;     // a new model arrived and was applied this tick
   // This tick's new model is the first to answer a remembered pose: the
   // round trip from sensing that pose; else -1 (a later model for the same
@@ -84,6 +88,7 @@ class ServoChannel {
   std::uint32_t device_id() const { return pose_.device_id; }
   common::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
   common::Percentiles ModelAge() const { return model_age_s_.Summary(); }
+  common::Percentiles PhysicsAge() const { return physics_age_s_.Summary(); }  // finite ages only
 
  private:
   // True when it took a new model, with tick_.requested_W_N already its force at the stylus.
@@ -109,10 +114,12 @@ class ServoChannel {
   std::array<Eigen::Vector3d, kSentRing> sent_tip_W_m_, sent_velocity_W_m_per_s_;
   bool have_model_ = false;
   ReceivedModel model_;
+  std::int64_t physics_sensed_ns_ = 0;  // when the pose the held model answers was sensed
+  bool physics_known_ = false;          // ... and whether that pose is one this channel remembers
   ModelDelay delay_;
   ChannelTick tick_;
   ChannelCounters counters_;
-  common::SampleWindow round_trip_s_, model_age_s_;
+  common::SampleWindow round_trip_s_, model_age_s_, physics_age_s_;
 };
 
 }  // namespace hapsim::bridge

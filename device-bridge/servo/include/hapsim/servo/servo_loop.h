@@ -34,7 +34,8 @@ struct TraceRow {
   Eigen::Quaterniond orientation_W;
   Eigen::Vector3d force_W_N;      // commanded (after safety)
   Eigen::Vector3d requested_W_N;  // from the local model (before safety)
-  double model_age_ms;            // -1: no model yet
+  double model_age_ms;            // stream gap; -1: no model yet
+  double physics_age_ms;          // round trip + gap (ChannelTick::physics_age_s); -1: no model yet, inf: not ours
   std::uint64_t echo_pose_seq;
   const char* phase;
   std::uint8_t model_state;
@@ -50,7 +51,8 @@ struct TraceRow {
 struct ServoReport {
   double elapsed_s = 0.0;
   common::Percentiles period_error_s;  // |actual period - nominal| (own-servo devices: between successive ticks' t)
-  common::Percentiles model_age_s;     // age of the model used, per tick
+  common::Percentiles model_age_s;     // stream gap of the model used, per tick
+  common::Percentiles physics_age_s;   // physics age of the model used, per tick (round trip + gap)
   common::Percentiles round_trip_s;    // pose sent -> model echoing it received
   ChannelCounters channel;              // ticks, models taken, echoed seqs, force peaks
   SafetyCounters safety;
@@ -83,7 +85,7 @@ class ServoLoop {
 // Writes the trace as CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,fx_N,fy_N,fz_N,
 // req_fx_N,req_fy_N,req_fz_N,model_age_ms,echo_pose_seq,model_state,watchdog,phase,
 // pose_seq,phys_fx_N,phys_fy_N,phys_fz_N (the physics force for the row's pose, nan if no model echoed it),
-// pose_sent,model_taken (0/1: what crossed the network this tick));
+// pose_sent,model_taken (0/1: what crossed the network this tick),physics_age_ms);
 // its first 8 columns are a pose log the replay backend can play.
 bool WriteTraceCsv(const std::string& path, const std::vector<TraceRow>& rows);
 
