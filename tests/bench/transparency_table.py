@@ -77,6 +77,9 @@ def bridge_figures(text):
     m = re.search(r"model age p50 [\d.]+ / p99 ([\d.]+)", text)
     if m:
         figures["model_age_p99_ms"] = float(m.group(1))
+    m = re.search(r"physics age p50 [\d.]+ / p99 ([\d.]+)", text)
+    if m:
+        figures["physics_age_p99_ms"] = float(m.group(1))
     m = re.search(r"warnings (\d+), fades (\d+)", text)
     d = re.search(r"disarms (\d+)", text)
     if m and d:
@@ -117,13 +120,14 @@ def main(argv):
         return
     runs = sorted((run_figures(os.path.join(argv[1], d)) for d in os.listdir(argv[1])),
                   key=lambda r: (link_key(r["link"]), r["scene"]))
-    print("| link (trainee, one-way) | scene | round trip p50/p99 ms | model age p99 ms | warn/fade/disarm | "
+    print("| link (trainee, one-way) | scene | round trip p50/p99 ms | model gap / physics age p99 ms | warn/fade/disarm | "
           "physics peak N | RMS error % | max error % | largest step at a model % | work on the hand rendered/physics mJ | "
           "passivity corrected/uncorrected |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         print(f"| {r['link']} | {r['scene']} | {fmt(r.get('rtt_p50_ms'), 2)}/{fmt(r.get('rtt_p99_ms'), 2)} | "
-              f"{fmt(r.get('model_age_p99_ms'), 2)} | {r.get('warn_fade_disarm', '-')} | "
+              f"{fmt(r.get('model_age_p99_ms'), 2)} / {fmt(r.get('physics_age_p99_ms'), 1)} | "
+              f"{r.get('warn_fade_disarm', '-')} | "
               f"{fmt(r.get('physics_peak_N'), 3)} | {fmt(r.get('rms_error_pct'))} | {fmt(r.get('max_error_pct'))} | "
               f"{fmt(r.get('max_model_step_pct'))} | {fmt(r.get('work_rendered_mJ'), 2)}/{fmt(r.get('work_physics_mJ'), 2)} | "
               f"{r.get('passivity_corrected', '-')}/{r.get('passivity_uncorrected', '-')} |")

@@ -10,8 +10,8 @@ namespace {
 
 // A new field changes these sizes (x86-64): add it to Pack/Unpack and to
 // the round trips below, then re-pin.
-static_assert(sizeof(hapsim_dds_LocalForceModel) == 328, "a field was added: convert it and test it here");
-static_assert(sizeof(core::LocalForceModel) == 200, "a field was added: convert it and test it here");
+static_assert(sizeof(hapsim_dds_LocalForceModel) == 360, "a field was added: convert it and test it here");
+static_assert(sizeof(core::LocalForceModel) == 232, "a field was added: convert it and test it here");
 static_assert(sizeof(hapsim_dds_StylusPose) == 176, "a field was added: convert it and test it here");
 static_assert(sizeof(core::ToolInput) == 96, "a field was added: convert it and test it here");
 
@@ -35,6 +35,10 @@ TEST(TopicsWire, EveryFieldOfAForceModelSurvivesTheRoundTrip) {
     m.stick_stiffness_N_per_m = 10.5;
     m.tip_anchor_W_m = V(11);
     m.tip_stiffness_N_per_m = 12.5;
+    m.release_penetration_m = 14.5;
+    m.release_stiffness_N_per_m = 15.5;
+    m.release_damping_Ns_per_m = 16.5;
+    m.tip_release_penetration_m = 17.5;
     hapsim_dds_LocalForceModel wire{};
     PackForceModel(m, V(13), &wire);
     const core::LocalForceModel back = UnpackForceModel(wire);
@@ -51,6 +55,10 @@ TEST(TopicsWire, EveryFieldOfAForceModelSurvivesTheRoundTrip) {
     EXPECT_EQ(back.stick_stiffness_N_per_m, m.stick_stiffness_N_per_m);
     EXPECT_EQ(back.tip_anchor_W_m, m.tip_anchor_W_m);
     EXPECT_EQ(back.tip_stiffness_N_per_m, m.tip_stiffness_N_per_m);
+    EXPECT_EQ(back.release_penetration_m, m.release_penetration_m);
+    EXPECT_EQ(back.release_stiffness_N_per_m, m.release_stiffness_N_per_m);
+    EXPECT_EQ(back.release_damping_Ns_per_m, m.release_damping_Ns_per_m);
+    EXPECT_EQ(back.tip_release_penetration_m, m.tip_release_penetration_m);
     EXPECT_EQ(UnpackToolForce_W_N(wire), V(13));
   }
 }

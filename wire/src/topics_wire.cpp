@@ -27,6 +27,10 @@ void PackForceModel(const core::LocalForceModel& m, const Eigen::Vector3d& tool_
   out->stick_stiffness_n_per_m = m.stick_stiffness_N_per_m;
   Put(m.tip_anchor_W_m, out->tip_anchor_m);
   out->tip_stiffness_n_per_m = m.tip_stiffness_N_per_m;
+  out->release_penetration_m = m.release_penetration_m;
+  out->release_stiffness_n_per_m = m.release_stiffness_N_per_m;
+  out->release_damping_ns_per_m = m.release_damping_Ns_per_m;
+  out->tip_release_penetration_m = m.tip_release_penetration_m;
 }
 
 core::LocalForceModel UnpackForceModel(const hapsim_dds_LocalForceModel& in) {
@@ -44,6 +48,10 @@ core::LocalForceModel UnpackForceModel(const hapsim_dds_LocalForceModel& in) {
   c.stick_stiffness_N_per_m = in.stick_stiffness_n_per_m;
   c.tip_anchor_W_m = Get(in.tip_anchor_m);
   c.tip_stiffness_N_per_m = in.tip_stiffness_n_per_m;
+  c.release_penetration_m = in.release_penetration_m;
+  c.release_stiffness_N_per_m = in.release_stiffness_n_per_m;
+  c.release_damping_Ns_per_m = in.release_damping_ns_per_m;
+  c.tip_release_penetration_m = in.tip_release_penetration_m;
   return c;
 }
 

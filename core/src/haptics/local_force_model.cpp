@@ -29,8 +29,13 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
       return m.feedforward_W_N;
     case ContactState::kContact:
     case ContactState::kCutting: {
-      Eigen::Vector3d f = m.feedforward_W_N;
       const double penetration_m = (m.anchor_W_m - x).dot(n);
+      if (m.state == ContactState::kContact && m.release_penetration_m > 0.0 &&
+          penetration_m >= m.release_penetration_m) {
+        const Eigen::Vector3d r = x - m.anchor_W_m;
+        return -m.release_stiffness_N_per_m * (r - r.dot(n) * n) - m.release_damping_Ns_per_m * v.dot(n) * n;
+      }
+      Eigen::Vector3d f = m.feedforward_W_N;
       if (penetration_m > 0.0)
         f += std::max(0.0, m.stiffness_N_per_m * penetration_m - m.damping_Ns_per_m * v.dot(n)) * n;
       if (m.state == ContactState::kCutting) {
@@ -44,7 +49,10 @@ Eigen::Vector3d EvaluateLocalForce(const LocalForceModel& m, const Eigen::Vector
       const Eigen::Vector3d r = x - m.anchor_W_m;
       const Eigen::Vector3d lateral = r - r.dot(n) * n;
       const double stick_N = std::clamp(m.stick_stiffness_N_per_m * (x - m.stick_W_m).dot(n), -coulomb_N, coulomb_N);
-      const double tip_N = std::max(0.0, m.tip_stiffness_N_per_m * (m.tip_anchor_W_m - x).dot(n));
+      const double tip_penetration_m = (m.tip_anchor_W_m - x).dot(n);
+      const bool tip_layer_gave_way =
+          m.tip_release_penetration_m > 0.0 && tip_penetration_m >= m.tip_release_penetration_m;
+      const double tip_N = tip_layer_gave_way ? 0.0 : std::max(0.0, m.tip_stiffness_N_per_m * tip_penetration_m);
       return m.feedforward_W_N - m.stiffness_N_per_m * lateral - (m.damping_Ns_per_m * v.dot(n) + stick_N - tip_N) * n;
     }
   }

@@ -15,8 +15,10 @@ bool CapRendering(core::LocalForceModel* m, double max_stiffness_N_per_m, double
   bool capped = LowerTo(&m->stiffness_N_per_m, max_stiffness_N_per_m);
   capped |= LowerTo(&m->stick_stiffness_N_per_m, max_stiffness_N_per_m);
   capped |= LowerTo(&m->tip_stiffness_N_per_m, max_stiffness_N_per_m);
+  capped |= LowerTo(&m->release_stiffness_N_per_m, max_stiffness_N_per_m);
   capped |= LowerTo(&m->damping_Ns_per_m, max_damping_Ns_per_m);
   capped |= LowerTo(&m->drag_damping_Ns_per_m, max_damping_Ns_per_m);
+  capped |= LowerTo(&m->release_damping_Ns_per_m, max_damping_Ns_per_m);
   return capped;
 }
 

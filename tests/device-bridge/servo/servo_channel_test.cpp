@@ -155,6 +155,12 @@ TEST_F(ServoChannelTest, ANanInAnyModelFieldNeverReachesTheDevice) {
       {"stiffness", [](auto& m) { m.stiffness_N_per_m = std::nan(""); }},
       {"damping", [](auto& m) { m.damping_Ns_per_m = std::nan(""); }},
       {"feedforward", [](auto& m) { m.feedforward_W_N.y() = std::nan(""); }},
+      {"release penetration", [](auto& m) { m.release_penetration_m = std::nan(""); }},
+      {"release stiffness",
+       [](auto& m) {
+         m.release_penetration_m = 1e-3;  // pressed 2 mm: released
+         m.release_stiffness_N_per_m = std::nan("");
+       }},
   };
   for (const auto& [name, poison] : poisons) {
     SyntheticDevice device{PressedTwoMillimetres()};

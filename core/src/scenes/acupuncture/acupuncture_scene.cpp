@@ -316,8 +316,10 @@ LocalForceModel AcupunctureScene::TunnelForceModel(const Eigen::Vector3d& tip) c
     const Eigen::Vector3d push = NetReactionOnTip_W_N(nets_[i], net_states_[i]);
     const double along_N = std::max(0.0, push.dot(m.normal_W));
     m.tip_stiffness_N_per_m = RenderedNetStiffness_N_per_m(i);
-    m.tip_anchor_W_m = tip + (along_N / m.tip_stiffness_N_per_m) * m.normal_W;
+    const double tip_penetration_m = along_N / m.tip_stiffness_N_per_m;
+    m.tip_anchor_W_m = tip + tip_penetration_m * m.normal_W;
     m.feedforward_W_N = push - along_N * m.normal_W;
+    m.tip_release_penetration_m = tip_penetration_m + DepthToPuncture_m(i);
   }
   return m;
 }
@@ -340,7 +342,22 @@ LocalForceModel AcupunctureScene::SkinPressForceModel(const Eigen::Vector3d& tip
   }
   m.anchor_W_m = tip + p_m * n;
   m.feedforward_W_N = outputs_.tool_force_W_N - std::max(0.0, fn_N) * n;
+  // Where the skin will give way, and the tunnel the needle is in after it
+  // (what Puncture and ComputeForce will do), so the device pops there.
+  m.release_penetration_m = p_m + DepthToPuncture_m(0);
+  m.release_stiffness_N_per_m = params_.tunnel_stiffness_N_per_m;
+  const bool coulomb = params_.shaft_friction_law == 1;
+  m.release_damping_Ns_per_m = ::hapsim::core::ShaftDamping_Ns_per_m(params_.layers, depth_m_.data(), 1) *
+                               (coulomb ? params_.shaft_viscous_scale : 1.0);
   return m;
+}
+
+// How much deeper the tip can press a layer's net before it punctures: the
+// net's table reaches the puncture force at puncture_depth_m (pressing along
+// the normal, as the insertion does). Never 0, so a model always says where
+// the layer gives (0 would mean "never").
+double AcupunctureScene::DepthToPuncture_m(std::size_t layer) const {
+  return std::max(nets_[layer].puncture_depth_m - net_states_[layer].depth_m, 1e-9);
 }
 
 std::unique_ptr<Scene> MakeAcupunctureScene(const std::map<std::string, double>& params) {

@@ -44,6 +44,18 @@ struct LocalForceModel {
   // nothing).
   Eigen::Vector3d tip_anchor_W_m = Eigen::Vector3d::Zero();
   double tip_stiffness_N_per_m = 0.0;
+  // Puncture, rendered where it happens rather than a round trip later: the
+  // penetration at which the pressed layer gives way (0: it never does in
+  // this model). kContact: past it the skin's spring and the feed-forward
+  // are gone and the needle is in a tunnel along n through the anchor
+  // (lateral spring release_stiffness, axial damping release_damping) until
+  // the next model says what the physics did. kPunctured: past
+  // tip_release_penetration_m the next layer's push (the tip term) is gone.
+  // Position-based, so the law stays a pure function of the tool's state.
+  double release_penetration_m = 0.0;
+  double release_stiffness_N_per_m = 0.0;
+  double release_damping_Ns_per_m = 0.0;
+  double tip_release_penetration_m = 0.0;
 };
 
 // Speed at which the smoothed Coulomb drag reaches tanh(1) = 76 % of drag_N
@@ -55,11 +67,15 @@ inline constexpr double kDragSmoothingSpeed_m_per_s = 0.002;
 //  kFree:      F = f_ff
 //  kContact:   p = (anchor - x)·n (penetration, m);
 //              F = f_ff + max(0, k p - b (v·n)) n  when p > 0, else f_ff
-//              (the max keeps the damper from pulling the tool into the surface)
+//              (the max keeps the damper from pulling the tool into the surface);
+//              punctured locally (p_r = release_penetration > 0 and p >= p_r):
+//              F = -k_r d - b_r (v·n) n, d the lateral offset from the line
+//              through anchor along n, k_r/b_r the release stiffness/damping
 //  kPunctured: d = (x - anchor) - ((x - anchor)·n) n (lateral offset);
 //              F = f_ff - k d - b (v·n) n
 //                  - clamp(k_stick (x - stick)·n, ±drag_N) n   (stick-slip friction)
-//                  + max(0, k_tip (tip_anchor - x)·n) n        (the next layer under the tip)
+//                  + max(0, k_tip (tip_anchor - x)·n) n        (the next layer under the tip,
+//                    0 once (tip_anchor - x)·n >= tip_release_penetration > 0: it gave way)
 //  kCutting:   the kContact law on (anchor, n, k, b), plus the drag along t,
 //              v_t = v·t: F_t = -(drag_N tanh(v_t / v_s) + drag_damping v_t) t
 //              with v_s = kDragSmoothingSpeed_m_per_s

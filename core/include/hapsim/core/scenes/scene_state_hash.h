@@ -28,6 +28,10 @@ inline void AddToHash(StateHasher& h, const LocalForceModel& m) {
   if (m.state == ContactState::kCutting) h.Add(m.drag_direction_W).Add(m.drag_N).Add(m.drag_damping_Ns_per_m);
   if (m.state == ContactState::kPunctured)
     h.Add(m.drag_N).Add(m.stick_W_m).Add(m.stick_stiffness_N_per_m).Add(m.tip_anchor_W_m).Add(m.tip_stiffness_N_per_m);
+  // Only a model that renders a puncture locally has these (the others' hashes stay as pinned).
+  if (m.release_penetration_m != 0.0)
+    h.Add(m.release_penetration_m).Add(m.release_stiffness_N_per_m).Add(m.release_damping_Ns_per_m);
+  if (m.tip_release_penetration_m != 0.0) h.Add(m.tip_release_penetration_m);
 }
 
 // Never allocates (ForceModel() returns a fixed-size value).

@@ -93,6 +93,7 @@ class AcupunctureScene final : public SceneWithOutputs {
   void ComputeForce(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
   void ComputeForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v);
   double RenderedNetStiffness_N_per_m(std::size_t layer) const;        // capped for the device
+  double DepthToPuncture_m(std::size_t layer) const;                   // deeper press left before it gives
   LocalForceModel TunnelForceModel(const Eigen::Vector3d& tip) const;  // after skin puncture
   LocalForceModel SkinPressForceModel(const Eigen::Vector3d& tip, const Eigen::Vector3d& v) const;
   void BuildDisplay();
