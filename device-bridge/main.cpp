@@ -55,10 +55,10 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
   std::printf("bridge: period jitter %s\n", FormatPercentiles(r.period_error_s, 1e3, "ms").c_str());
   std::printf(
       "bridge: poses sent %llu (deadband let out %llu of %llu); force models received %llu (echoed pose seq %llu -> "
-      "%llu, regressions %llu)\n",
+      "%llu, regressions %llu, unused %llu)\n",
       static_cast<ull>(dds.poses_written(i)), static_cast<ull>(c.poses_due), static_cast<ull>(c.ticks),
       static_cast<ull>(c.models_taken), static_cast<ull>(c.first_echo_seq), static_cast<ull>(c.last_echo_seq),
-      static_cast<ull>(c.echo_regressions));
+      static_cast<ull>(c.echo_regressions), static_cast<ull>(c.models_unused));
   std::printf("bridge: DDS partition %s; models for other sessions or devices %llu (expected 0)\n",
               hapsim::dds::SessionPartition(session).c_str(), static_cast<ull>(dds.models_for_others()));
   std::printf(
@@ -66,6 +66,13 @@ void PrintReport(const hapsim::bridge::ServoReport& r, const std::string& device
       "server switches %llu\n",
       static_cast<ull>(dds.followed_server(i)), static_cast<ull>(dds.models_from_other_servers(i)),
       static_cast<ull>(dds.server_switches(i)));
+  if (r.first_model_s >= 0.0) {
+    std::printf(
+        "bridge: first force model %.3f s after the servo started (zero force before: discovering the server)\n",
+        r.first_model_s);
+  } else {
+    std::printf("bridge: no force model arrived (zero force throughout)\n");
+  }
   std::printf("bridge: round trip %s\n", FormatPercentiles(r.round_trip_s, 1e3, "ms").c_str());
   std::printf("bridge: model age %s\n", FormatPercentiles(r.model_age_s, 1e3, "ms").c_str());
   std::printf("bridge: physics age %s\n", FormatPercentiles(r.physics_age_s, 1e3, "ms").c_str());

@@ -74,6 +74,7 @@ nlohmann::json Report(const hapsim::netlab::LinkSwitch& link_switch, const hapsi
                                {"link", hapsim::netlab::ToString(h.link)},
                                {"sent_packets", c.sent_packets},
                                {"sent_bytes", c.sent_bytes},
+                               {"sent_multicast_packets", c.sent_multicast_packets},
                                {"received_packets", c.received_packets},
                                {"received_bytes", c.received_bytes},
                                {"dropped_lost", c.lost},

@@ -24,7 +24,7 @@ void PrintInfo(const hapsim::v1::SessionInfo& i) {
       "%s scene=%s owner=%s paused=%d sim_time_s=%.3f ticks=%llu late_ticks=%llu device_clocked_ticks=%llu "
       "max_tick_lateness_s=%.6f viewers=%u poses_received=%llu poses_rejected=%llu "
       "poses_from_other_devices=%llu poses_stale=%llu viewer_frames_coalesced=%llu device_streaming=%d "
-      "owning_device_id=%u force_models_sent=%llu force_models_held=%llu "
+      "owning_device_id=%u force_models_sent=%llu force_models_held=%llu poses_unused=%llu "
       "numerical_resets=%llu peak_tool_force_n=%.4f\n",
       i.session_id().c_str(), i.scene().c_str(), i.owner().c_str(), i.paused() ? 1 : 0, i.sim_time_s(),
       static_cast<ull>(i.ticks()), static_cast<ull>(i.late_ticks()), static_cast<ull>(i.device_clocked_ticks()),
@@ -32,7 +32,7 @@ void PrintInfo(const hapsim::v1::SessionInfo& i) {
       static_cast<ull>(i.poses_from_other_devices()), static_cast<ull>(i.poses_stale()),
       static_cast<ull>(i.viewer_frames_coalesced()), i.device_streaming() ? 1 : 0, i.owning_device_id(),
       static_cast<ull>(i.force_models_sent()), static_cast<ull>(i.force_models_held()),
-      static_cast<ull>(i.numerical_resets()), i.peak_tool_force_n());
+      static_cast<ull>(i.poses_unused()), static_cast<ull>(i.numerical_resets()), i.peak_tool_force_n());
 }
 
 void PrintScores(const hapsim::v1::ScoreReport& r) {

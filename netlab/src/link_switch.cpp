@@ -54,6 +54,7 @@ void LinkSwitch::Send(std::size_t from, const std::uint8_t* data, std::size_t by
     ++c.unroutable;
     return;
   }
+  if (route.to_all) ++c.sent_multicast_packets;
   if (!route.to_all) {
     to = HostOf(route.destination);
     if (to == hosts_.size() || to == from) {

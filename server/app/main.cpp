@@ -52,10 +52,11 @@ void PrintSummary(hapsim::service::ServerApp& app) {
   for (const auto& s : app.registry().List()) {
     const auto& c = s->counters();
     std::printf(
-        "session %s (%s): ticks %llu (device-clocked %llu), sim %.3f s, late ticks %llu "
+        "session %s (%s): ticks %llu (device-clocked %llu), poses unused %llu, sim %.3f s, late ticks %llu "
         "(worst %.3f ms late), peak tool force %.3f N, numerical resets %llu\n",
         s->id().c_str(), s->config().scene.c_str(), static_cast<unsigned long long>(c.tick.ticks.load()),
-        static_cast<unsigned long long>(c.tick.device_clocked_ticks.load()), c.tick.sim_time_s.load(),
+        static_cast<unsigned long long>(c.tick.device_clocked_ticks.load()),
+        static_cast<unsigned long long>(c.tick.poses_unused.load()), c.tick.sim_time_s.load(),
         static_cast<unsigned long long>(c.tick.late_ticks.load()),
         static_cast<double>(c.tick.max_lateness_ns.load()) * 1e-6, c.tick.peak_tool_force_N.load(),
         static_cast<unsigned long long>(c.tick.numerical_resets.load()));

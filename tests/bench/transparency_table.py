@@ -90,6 +90,10 @@ def bridge_figures(text):
     m = re.search(r"poses sent (\d+)(?: \([^)]*\))?; force models received (\d+)", text)
     if m:
         figures["poses"], figures["models"] = int(m.group(1)), int(m.group(2))
+    m = re.search(r"regressions \d+, unused (\d+)\)", text)
+    if m and "models" in figures:
+        unused = int(m.group(1))
+        figures["models_unused_pct"] = 100.0 * unused / max(1, unused + figures["models"])
     return figures
 
 
@@ -98,6 +102,10 @@ def run_figures(directory):
         name, scene, *link = f.read().split()
     figures = {"run": name, "scene": scene, "link": link[0] if link else ""}
     figures.update(bridge_figures(open(os.path.join(directory, "bridge.out")).read()))
+    server_out = os.path.join(directory, "server.out")
+    m = re.search(r"poses unused (\d+)", open(server_out).read()) if os.path.exists(server_out) else None
+    if m and figures.get("poses"):
+        figures["poses_unused_pct"] = 100.0 * int(m.group(1)) / figures["poses"]
     t = transparency(load_trace(os.path.join(directory, "trace.csv")))
     if t:
         figures.update(t)
@@ -122,15 +130,16 @@ def main(argv):
                   key=lambda r: (link_key(r["link"]), r["scene"]))
     print("| link (trainee, one-way) | scene | round trip p50/p99 ms | model gap / physics age p99 ms | warn/fade/disarm | "
           "physics peak N | RMS error % | max error % | largest step at a model % | work on the hand rendered/physics mJ | "
-          "passivity corrected/uncorrected |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "passivity corrected/uncorrected | poses / models unused % |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         print(f"| {r['link']} | {r['scene']} | {fmt(r.get('rtt_p50_ms'), 2)}/{fmt(r.get('rtt_p99_ms'), 2)} | "
               f"{fmt(r.get('model_age_p99_ms'), 2)} / {fmt(r.get('physics_age_p99_ms'), 1)} | "
               f"{r.get('warn_fade_disarm', '-')} | "
               f"{fmt(r.get('physics_peak_N'), 3)} | {fmt(r.get('rms_error_pct'))} | {fmt(r.get('max_error_pct'))} | "
               f"{fmt(r.get('max_model_step_pct'))} | {fmt(r.get('work_rendered_mJ'), 2)}/{fmt(r.get('work_physics_mJ'), 2)} | "
-              f"{r.get('passivity_corrected', '-')}/{r.get('passivity_uncorrected', '-')} |")
+              f"{r.get('passivity_corrected', '-')}/{r.get('passivity_uncorrected', '-')} | "
+              f"{fmt(r.get('poses_unused_pct'))} / {fmt(r.get('models_unused_pct'))} |")
     if len(argv) > 3 and argv[2] == "--json":
         with open(argv[3], "w") as f:
             json.dump(runs, f, indent=2)

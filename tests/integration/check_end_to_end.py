@@ -22,7 +22,7 @@ check(bridge_rc == 0, f"bridge exits 0 on SIGTERM (got {bridge_rc})")
 check(viewer_rc == 0, f"viewer exits 0 on SIGTERM (got {viewer_rc})")
 
 bridge = read("bridge.out")
-m = re.search(r"force models received (\d+) \(echoed pose seq (\d+) -> (\d+), regressions (\d+)\)", bridge)
+m = re.search(r"force models received (\d+) \(echoed pose seq (\d+) -> (\d+), regressions (\d+),", bridge)
 check(m is not None, "bridge reports force models")
 if m:
     received, first, last, regressions = map(int, m.groups())

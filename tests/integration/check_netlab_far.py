@@ -1,5 +1,7 @@
 """Checks netlab_far.sh's run: 100 ms round trip seen by the watchdog, a far
 viewer at full rate, bounded shutdowns when a network interface vanishes."""
+import json
+import os
 import re
 import sys
 
@@ -44,6 +46,14 @@ for name, limit_ms, code in (("lost", 3000 + 1500, 0), ("server", 5000 + 1500, 0
     check(rc == code, f"{name} without its interface exits {code} on SIGTERM (exit {rc})")
     check(elapsed_ms <= limit_ms, f"{name} without its interface stops within {limit_ms} ms ({elapsed_ms} ms)")
     check(lines <= 100, f"{name}'s log is not flooded by failed sends ({lines} lines)")
+# Multicast on the LAN config: discovery only (a few SPDP announcements per host), never the 1 kHz data.
+with open(os.path.join(work, "link.json")) as f:
+    hosts = {h["netns"].rsplit("-", 1)[1]: h for h in json.load(f)["hosts"]}
+for name, h in hosts.items():
+    share = h["sent_multicast_packets"] / max(1, h["sent_packets"])
+    check(h["sent_multicast_packets"] <= 50 and share <= 0.01,
+          f"{name}: multicast is discovery only ({h['sent_multicast_packets']} of {h['sent_packets']} packets)")
+
 lost_out = read_text(work, "lost.out")
 check("force peak" in lost_out, "the lost bridge printed its report before teardown")
 

@@ -5,7 +5,9 @@
 # physics age is the round trip: a felt-lag warning, full force, no fade);
 # the far viewer gets >= 50 frames/s (its ack window grows by the round
 # trip); a bridge and then the server whose interface was deleted stop on
-# SIGTERM within their teardown bounds, without flooding their logs.
+# SIGTERM within their teardown bounds, without flooding their logs; with
+# the LAN config, multicast carries discovery only (every model and pose
+# unicast, not sent to the whole LAN).
 # Exits 77 (skipped) where namespaces cannot be made.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
@@ -51,5 +53,6 @@ start=$(now_ms)
 stop_process server_rc "$server"
 echo "$server_rc $(( $(now_ms) - start ))" >server.stop
 "$netlab" down "$lab"
+cp "$HAPSIM_NETLAB_STATE/$lab/report.json" link.json
 cat far.out viewer.out
 /usr/bin/python3 "$here/check_netlab_far.py" "$work"

@@ -77,6 +77,11 @@ TEST(LinkSwitch, MulticastReachesEveryOtherHostThroughItsOwnLink) {
   EXPECT_EQ(got[0].to, 1u);
   EXPECT_EQ(got[0].at_ns, 5 * kNsPerMs);
   EXPECT_EQ(sw.counters(2).lost, 1u);
+  EXPECT_EQ(sw.counters(0).sent_multicast_packets, 1u);  // counted once, at the sender
+  const auto unicast = Ipv4To("10.77.0.2");
+  sw.Send(0, unicast.data(), unicast.size(), kNsPerMs * 100);
+  EXPECT_EQ(sw.counters(0).sent_multicast_packets, 1u);
+  EXPECT_EQ(sw.counters(0).sent_packets, 2u);
 }
 
 TEST(LinkSwitch, UnknownAddressesAndNonIpv4AreCountedNotForwarded) {

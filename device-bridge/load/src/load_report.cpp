@@ -11,6 +11,7 @@ void AddCounts(const LoadFlow& f, LoadFlow* sum) {
   sum->models_received += f.models_received;
   sum->models_used += f.models_used;
   sum->echo_regressions += f.echo_regressions;
+  sum->models_unused += f.models_unused;
   sum->safety.non_finite += f.safety.non_finite;
   sum->safety.clamped += f.safety.clamped;
   sum->safety.rate_limited += f.safety.rate_limited;

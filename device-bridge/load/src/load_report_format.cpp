@@ -36,6 +36,7 @@ void AddFlow(Json& j, const LoadFlow& f) {
   j["models_received"] = f.models_received;
   j["models_used"] = f.models_used;
   j["echo_regressions"] = f.echo_regressions;
+  j["models_unused"] = f.models_unused;
   j["round_trip_ms"] = PercentilesMs(f.round_trip_s);
   j["model_age_ms"] = PercentilesMs(f.model_age_s);
   j["physics_age_ms"] = PercentilesMs(f.physics_age_s);

@@ -132,6 +132,7 @@ LoadReport LoadRunner::Report(double elapsed_s) const {
     d.flow.models_received = router_->models_routed(i);
     d.flow.models_used = c.models_taken;
     d.flow.echo_regressions = c.echo_regressions;
+    d.flow.models_unused = c.models_unused;
     d.flow.round_trip_s = ch.RoundTrip();
     d.flow.model_age_s = ch.ModelAge();
     d.flow.physics_age_s = ch.PhysicsAge();

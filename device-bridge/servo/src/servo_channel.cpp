@@ -73,6 +73,8 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   // Evaluated once: the transition compares it with the old model, and it is this tick's request.
   tick_.requested_W_N = core::EvaluateLocalForce(incoming.model, r.tip_W_m, r.velocity_W_m_per_s);
   if (have_model_) safety_.OfferModel(model_.model, tick_.requested_W_N, r.tip_W_m, r.velocity_W_m_per_s);
+  if (have_model_ && incoming.server_instance == model_.server_instance && incoming.seq > model_.seq + 1)
+    counters_.models_unused += incoming.seq - model_.seq - 1;
   model_ = incoming;
   // Later models for the same pose answer it too (their physics is as old).
   physics_known_ = sent_seq_[echo_slot] == echo;

@@ -85,6 +85,7 @@ bool ServoLoop::Tick(ServoChannel& channel, double t, const std::atomic<bool>& s
   }
   // 2. newest model -> safety -> device
   const ChannelTick& tick = channel.Actuate(*model_in_);
+  if (tick.took_model && report->first_model_s < 0.0) report->first_model_s = t;
   // 3. trace (reserved before the loop: no allocation)
   if (report->trace.size() < config_.trace_capacity) {
     const ChannelCounters& c = channel.counters();

@@ -51,6 +51,7 @@ void DescribeSession(const Session& s, hapsim::v1::SessionInfo* info) {
   info->set_poses_rejected(c.poses.rejected.load());
   info->set_force_models_sent(c.tick.force_models_sent.load());
   info->set_force_models_held(c.tick.force_models_held.load());
+  info->set_poses_unused(c.tick.poses_unused.load());
   info->set_numerical_resets(c.tick.numerical_resets.load());
   info->set_tick_period_s(s.config().tick_period_s);
   info->set_peak_tool_force_n(c.tick.peak_tool_force_N.load());

@@ -110,6 +110,9 @@ TickInput Session::AssembleInput(std::int64_t now_ns) {
   in.tick = tick_index_++;
   PoseSample pose;
   if (pose_inbox_.TakeIfNew(&pose)) {
+    // Several poses since the last tick (a clump after jitter, or losses): the newest wins, the rest are counted.
+    if (have_pose_ && pose.device_id == last_pose_.device_id && pose.seq > last_pose_.seq + 1)
+      counters_.tick.poses_unused.fetch_add(pose.seq - last_pose_.seq - 1, std::memory_order_relaxed);
     last_pose_ = pose;
     have_pose_ = true;
     in.fresh_pose = true;

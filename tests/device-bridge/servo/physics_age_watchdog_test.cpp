@@ -102,15 +102,6 @@ class PhysicsAgeChannelTest : public ::testing::Test {
     script.entry_W_m = Eigen::Vector3d(0, 0, -0.002);
     return script;
   }
-  static ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns) {
-    ReceivedModel m;
-    m.model.state = core::ContactState::kContact;
-    m.model.normal_W = Eigen::Vector3d::UnitZ();
-    m.model.stiffness_N_per_m = 500.0;
-    m.echo_pose_seq = echo_pose_seq;
-    m.received_ns = received_ns;
-    return m;
-  }
   SyntheticDevice device_{Hold()};
   common::LatestValue<ReceivedModel> inbox_;
   ServoChannel channel_{&device_, ChannelConfig{1, kTickS, test::QuietChain(), 1024}};
@@ -123,7 +114,7 @@ TEST_F(PhysicsAgeChannelTest, AModelJustArrivedForAPoseSensedEarlierIsAsOldAsTha
   while (common::SteadyNowNs() - pose0_ns < 5'000'000) {
   }  // 5 ms pass: the model below answers a pose that old
   channel_.Sense(0.001);
-  inbox_.Publish(ContactModel(0, channel_.pose().t_device_ns));  // arrives now
+  inbox_.Publish(test::ContactModel(0, channel_.pose().t_device_ns));  // arrives now
   const ChannelTick& tick = channel_.Actuate(inbox_);
   EXPECT_EQ(tick.model_age_s, 0.0);
   EXPECT_GE(tick.physics_age_s, 0.005);
@@ -139,14 +130,14 @@ TEST_F(PhysicsAgeChannelTest, AModelAnsweringAPoseThisChannelNeverSensedGivesNoF
   // Echo 99 was never sensed here: another run's pose (a restarted bridge) or
   // one older than the remembered 4 s — no one knows how old its physics is.
   channel_.Sense(0.0);
-  inbox_.Publish(ContactModel(99, common::SteadyNowNs()));
+  inbox_.Publish(test::ContactModel(99, common::SteadyNowNs()));
   const ChannelTick& tick = channel_.Actuate(inbox_);
   EXPECT_EQ(tick.physics_age_s, std::numeric_limits<double>::infinity());
   EXPECT_EQ(tick.force_W_N.norm(), 0.0);
   EXPECT_EQ(channel_.watchdog(), WatchdogState::kDisarmed);
   // The server then answers one of our poses: force returns.
   channel_.Sense(0.001);
-  inbox_.Publish(ContactModel(1, common::SteadyNowNs()));
+  inbox_.Publish(test::ContactModel(1, common::SteadyNowNs()));
   EXPECT_NEAR(channel_.Actuate(inbox_).force_W_N.z(), 1.0, 1e-9);  // 2 mm x 500 N/m
   EXPECT_EQ(channel_.watchdog(), WatchdogState::kFresh);
 }

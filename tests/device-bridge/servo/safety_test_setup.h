@@ -6,6 +6,7 @@
 
 #include "hapsim/servo/device.h"
 #include "hapsim/servo/force_safety.h"
+#include "hapsim/servo/servo_messages.h"
 
 namespace hapsim::bridge::test {
 
@@ -28,6 +29,18 @@ inline SafetyConfig QuietChain() {
   c.passivity_control = false;
   c.model_transition_ticks = 0;
   return c;
+}
+
+// A contact model as the DDS side hands it over (k = 500 N/m at z = 0,
+// pushing up), answering pose echo_pose_seq and arrived at received_ns.
+inline ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns) {
+  ReceivedModel m;
+  m.model.state = core::ContactState::kContact;
+  m.model.normal_W = Eigen::Vector3d::UnitZ();
+  m.model.stiffness_N_per_m = 500.0;
+  m.echo_pose_seq = echo_pose_seq;
+  m.received_ns = received_ns;
+  return m;
 }
 
 // A device whose reading and limits the test sets; it records the force.

@@ -27,16 +27,7 @@ SyntheticScript PressedTwoMillimetres() {
   return script;
 }
 
-// A contact model as the DDS side hands it over (k = 500 N/m at z = 0).
-ReceivedModel ContactModel(std::uint64_t echo_pose_seq, std::int64_t received_ns) {
-  ReceivedModel m;
-  m.model.state = core::ContactState::kContact;
-  m.model.normal_W = Eigen::Vector3d::UnitZ();
-  m.model.stiffness_N_per_m = 500.0;
-  m.echo_pose_seq = echo_pose_seq;
-  m.received_ns = received_ns;
-  return m;
-}
+using test::ContactModel;
 
 class ServoChannelTest : public ::testing::Test {
  protected:
@@ -106,6 +97,38 @@ TEST_F(ServoChannelTest, AModelOvertakenInTransitIsDiscardedAndCounted) {
   EXPECT_EQ(channel_.counters().models_taken, 3u);
   EXPECT_EQ(channel_.counters().first_echo_seq, 0u);
   EXPECT_EQ(channel_.counters().last_echo_seq, 3u);
+}
+
+// Models arriving in a clump within one tick: the newest is rendered, and the
+// server's models this device never rendered are counted (lost ones too).
+TEST_F(ServoChannelTest, ModelsOfTheServersSequenceNeverRenderedAreCounted) {
+  for (int k = 0; k < 4; ++k) {
+    channel_.Sense(0.0);
+    channel_.Actuate(inbox_);
+  }
+  const auto publish = [&](std::uint64_t seq, std::uint64_t echo) {
+    ReceivedModel m = ContactModel(echo, common::SteadyNowNs());
+    m.seq = seq;
+    m.server_instance = 42;
+    inbox_.Publish(m);
+  };
+  channel_.Sense(0.0);
+  publish(1, 0);
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.0);
+  publish(2, 1);
+  publish(3, 2);
+  publish(4, 3);  // three in one tick: 2 and 3 are overwritten in the inbox
+  channel_.Actuate(inbox_);
+  EXPECT_EQ(channel_.counters().models_unused, 2u);
+  EXPECT_EQ(channel_.counters().last_echo_seq, 3u);
+  channel_.Sense(0.0);
+  ReceivedModel other = ContactModel(3, common::SteadyNowNs());
+  other.seq = 90;
+  other.server_instance = 7;  // another server's sequence is not this one's gap
+  inbox_.Publish(other);
+  channel_.Actuate(inbox_);
+  EXPECT_EQ(channel_.counters().models_unused, 2u);
 }
 
 TEST_F(ServoChannelTest, AfterAStallAnOlderEchoIsTakenNotDiscarded) {

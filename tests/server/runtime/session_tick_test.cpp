@@ -153,6 +153,28 @@ TEST(SessionTick, AStaleOrDuplicatePoseFromTheOwnerMovesNothingAndIsCounted) {
   EXPECT_EQ(session->counters().poses.received.load(), 1u);
 }
 
+// Jitter delivers poses in clumps: a tick takes the newest and counts the
+// ones of the device's sequence no tick used (superseded, or never arrived).
+TEST(SessionTick, ATickTakesTheNewestOfSeveralPosesAndCountsTheOnesNoTickUsed) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  ASSERT_EQ(session->OfferPose(PressingPose(10, 1, now)), PoseVerdict::kAccepted);
+  session->RunTick(now, now);
+  now += kPeriodNs;
+  for (const std::uint64_t seq : {11u, 12u, 13u}) session->OfferPose(PressingPose(seq, 1, now));  // one clump
+  session->RunTick(now, now);
+  EXPECT_EQ(models.last.echo_pose_seq, 13u);
+  EXPECT_EQ(session->counters().tick.poses_unused.load(), 2u);  // 11 and 12
+  now += kPeriodNs;
+  session->OfferPose(PressingPose(17, 1, now));  // 14-16 lost on the way
+  session->RunTick(now, now);
+  EXPECT_EQ(session->counters().tick.poses_unused.load(), 5u);
+  now += kPeriodNs;
+  session->RunTick(now, now);  // no new pose: nothing more is unused
+  EXPECT_EQ(session->counters().tick.poses_unused.load(), 5u);
+}
+
 TEST(SessionTick, NoForceModelOnceThePoseIsOlderThanTheTimeout) {
   CapturedModels models;
   auto session = MakeSession("tissue_block", &models);

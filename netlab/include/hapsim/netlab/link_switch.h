@@ -24,6 +24,7 @@ struct HostSpec {
 // What happened to the packets a host sent (up) and was sent (down).
 struct HostCounters {
   std::uint64_t sent_packets = 0, sent_bytes = 0;            // offered by the host
+  std::uint64_t sent_multicast_packets = 0;                  // ... of them to a multicast or broadcast address
   std::uint64_t received_packets = 0, received_bytes = 0;    // handed to the host
   std::uint64_t lost = 0, burst = 0, queue = 0, outage = 0;  // dropped on its link, either direction
   std::uint64_t unroutable = 0;                              // to an address no host has, or not IPv4

@@ -19,6 +19,7 @@ struct LoadFlow {
   std::uint64_t models_received = 0;  // routed by the receive thread
   std::uint64_t models_used = 0;      // taken by the servo thread (newest per tick; older ones overwritten)
   std::uint64_t echo_regressions = 0;
+  std::uint64_t models_unused = 0;   // of the server's sequence, never rendered (lost or overwritten)
   common::Percentiles round_trip_s;  // pose sensed -> model echoing it received
   common::Percentiles model_age_s;   // stream gap of the model rendered, per tick
   common::Percentiles physics_age_s;  // its physics age (round trip + gap), per tick

@@ -63,6 +63,10 @@ struct ChannelCounters {
   std::uint64_t poses_due = 0;         // poses the deadband let out (pose_due() was true)
   std::uint64_t models_taken = 0;      // new models found in the inbox and applied (older ones are overwritten unseen)
   std::uint64_t echo_regressions = 0;  // models echoing an older pose than the one held: discarded (reordered)
+  // Models of the followed server's sequence this device never rendered:
+  // lost, or overwritten by a newer one before a tick took it (several
+  // arrived within one tick: a clump after jitter). The newest always wins.
+  std::uint64_t models_unused = 0;
   std::uint64_t first_echo_seq = 0, last_echo_seq = 0;  // valid when models_taken > 0
   double peak_force_N = 0.0;            // commanded
   double peak_force_pressing_N = 0.0;   // script phases press/hold

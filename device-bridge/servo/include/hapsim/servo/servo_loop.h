@@ -50,6 +50,10 @@ struct TraceRow {
 
 struct ServoReport {
   double elapsed_s = 0.0;
+  // Device time of the first tick that had a force model (-1: none came):
+  // until then the stylus is free (zero force) while the bridge discovers
+  // its server over DDS.
+  double first_model_s = -1.0;
   common::Percentiles period_error_s;  // |actual period - nominal| (own-servo devices: between successive ticks' t)
   common::Percentiles model_age_s;     // stream gap of the model used, per tick
   common::Percentiles physics_age_s;   // physics age of the model used, per tick (round trip + gap)

@@ -19,6 +19,11 @@ struct alignas(64) TickCounters {
   std::atomic<std::int64_t> max_lateness_ns{0};
   std::atomic<std::uint64_t> force_models_sent{0};
   std::atomic<std::uint64_t> force_models_held{0};  // not sent: the device would not feel the change (ModelDeadband)
+  // Poses of the owning device's sequence no tick used: lost, overwritten by
+  // a newer one before it was read, or superseded in the mailbox when several
+  // arrived at once (a tick takes the newest), or never sent (the bridge's
+  // pose deadband). The thinning that jitter causes.
+  std::atomic<std::uint64_t> poses_unused{0};
   std::atomic<std::uint64_t> snapshots_skipped{0};  // every ring buffer was still being read
   std::atomic<std::uint64_t> numerical_resets{0};
   std::atomic<std::uint32_t> owning_device_id{0};
