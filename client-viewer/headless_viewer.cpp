@@ -57,9 +57,10 @@ void PrintStreamCounts(const std::string& session, const ViewerStats& s) {
 
 void PrintTissueSummary(const ViewerStats& s, const MeshCache& mesh, const EventTally& tally) {
   std::printf(
-      "viewer: last seq %llu, sim time %.3f s, vertices %zu, triangles %zu, peak tool force %.3f N, events:%s\n",
-      static_cast<ull>(mesh.last_seq()), s.last_sim_time_s, mesh.live_vertex_count(), mesh.live_triangle_count(),
-      s.peak_tool_force_N, EventCountsText(tally).c_str());
+      "viewer: last seq %llu, sim time %.3f s (first frame at %.3f s), vertices %zu, triangles %zu, peak tool force "
+      "%.3f N, events:%s\n",
+      static_cast<ull>(mesh.last_seq()), s.last_sim_time_s, s.first_sim_time_s, mesh.live_vertex_count(),
+      mesh.live_triangle_count(), s.peak_tool_force_N, EventCountsText(tally).c_str());
   if (!tally.punctures.empty()) {
     std::string list;
     for (const Puncture& p : tally.punctures) {

@@ -146,6 +146,7 @@ bool ViewerClient::TakeFrame(const hapsim::v1::Frame& wire, bool first_stream) {
 }
 
 void ViewerClient::CountFrame(const hapsim::v1::Frame& wire, const ViewerFrame& frame) {
+  if (stats_.frames == 0) stats_.first_sim_time_s = frame.sim_time_s;
   ++stats_.frames;
   stats_.bytes += wire.ByteSizeLong();
   if (frame.keyframe)

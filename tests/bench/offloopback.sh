@@ -4,7 +4,8 @@
 # with a server host and a trainee host whose access link has the LINK's
 # delay, jitter and loss; hapsim-server on the server host (pinned to core 0)
 # with one session of SCENE; one hapsim-bridge on the trainee host (core 1)
-# running the scene's script with --trace. Both use the LAN DDS config that
+# running the scene's script with --trace; a headless hapsim-viewer on a
+# viewer host with the same link (core 0), watching meanwhile. Both use the LAN DDS config that
 # deploy/make-dds-config.sh writes (unicast peers), gRPC on the lab address.
 # transparency_table.py compares, tick by tick, the force the bridge
 # rendered with the force the physics computed for the same pose (the trace's
@@ -56,18 +57,23 @@ PY
 }
 
 run_one() {  # NAME LINK SCENE ROUND_TRIP_S
-  local name=$1 link=$2 scene=$3 rtt_s=$4 dir="$out/runs/$1-$3" server_pid
+  local name=$1 link=$2 scene=$3 rtt_s=$4 dir="$out/runs/$1-$3" server_pid viewer_pid
   mkdir -p "$dir"
-  "$netlab" up "$lab" --seconds 300 --owner $$ --realtime server "trainee${link:+=$link}"
+  "$netlab" up "$lab" --seconds 300 --owner $$ --realtime server "trainee${link:+=$link}" "viewer${link:+=$link}"
   "$netlab" exec "$lab" server taskset -c 0 "$bin/hapsim-server" --listen 10.77.0.1:50051 --workers 1 \
       --sessions "s:$scene" --dds-config "$out/dds.xml" --log-level warn >"$dir/server.out" 2>"$dir/server.log" &
   server_pid=$!
   sleep 1.5
   local flags
   flags=$(script_flags "$scene" "$rtt_s")
+  # A headless viewer on its own host with the trainee's link, watching the session meanwhile (core 0).
+  "$netlab" exec "$lab" viewer taskset -c 0 timeout 120 "$bin/hapsim-viewer" --headless --server 10.77.0.1:50051 \
+      --session s --seconds "${flags##*--seconds }" >"$dir/viewer.out" 2>"$dir/viewer.log" &
+  viewer_pid=$!
   # shellcheck disable=SC2086
   "$netlab" exec "$lab" trainee taskset -c 1 timeout 120 "$bin/hapsim-bridge" --session s --dds-config "$out/dds.xml" \
       $flags --trace "$dir/trace.csv" >"$dir/bridge.out" 2>"$dir/bridge.log" || echo "bridge exit $? ($name $scene)" >&2
+  wait "$viewer_pid" 2>/dev/null || echo "viewer exit ($name $scene)" >&2
   kill -TERM "$server_pid" 2>/dev/null || true
   wait "$server_pid" 2>/dev/null || true
   "$netlab" down "$lab"

@@ -102,6 +102,14 @@ def run_figures(directory):
         name, scene, *link = f.read().split()
     figures = {"run": name, "scene": scene, "link": link[0] if link else ""}
     figures.update(bridge_figures(open(os.path.join(directory, "bridge.out")).read()))
+    viewer_out = os.path.join(directory, "viewer.out")
+    if os.path.exists(viewer_out):
+        v = open(viewer_out).read()
+        frames = re.search(r"frames (\d+)", v)
+        times = re.search(r"sim time ([\d.]+) s \(first frame at ([\d.]+) s\)", v)
+        if frames and times and float(times.group(1)) > float(times.group(2)):
+            # Frames per second of session time once streaming (after connecting: a few round trips).
+            figures["viewer_fps"] = (int(frames.group(1)) - 1) / (float(times.group(1)) - float(times.group(2)))
     server_out = os.path.join(directory, "server.out")
     m = re.search(r"poses unused (\d+)", open(server_out).read()) if os.path.exists(server_out) else None
     if m and figures.get("poses"):
@@ -130,8 +138,8 @@ def main(argv):
                   key=lambda r: (link_key(r["link"]), r["scene"]))
     print("| link (trainee, one-way) | scene | round trip p50/p99 ms | model gap / physics age p99 ms | warn/fade/disarm | "
           "physics peak N | RMS error % | max error % | largest step at a model % | work on the hand rendered/physics mJ | "
-          "passivity corrected/uncorrected | poses / models unused % |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "passivity corrected/uncorrected | poses / models unused % | viewer frames/s |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for r in runs:
         print(f"| {r['link']} | {r['scene']} | {fmt(r.get('rtt_p50_ms'), 2)}/{fmt(r.get('rtt_p99_ms'), 2)} | "
               f"{fmt(r.get('model_age_p99_ms'), 2)} / {fmt(r.get('physics_age_p99_ms'), 1)} | "
@@ -139,7 +147,7 @@ def main(argv):
               f"{fmt(r.get('physics_peak_N'), 3)} | {fmt(r.get('rms_error_pct'))} | {fmt(r.get('max_error_pct'))} | "
               f"{fmt(r.get('max_model_step_pct'))} | {fmt(r.get('work_rendered_mJ'), 2)}/{fmt(r.get('work_physics_mJ'), 2)} | "
               f"{r.get('passivity_corrected', '-')}/{r.get('passivity_uncorrected', '-')} | "
-              f"{fmt(r.get('poses_unused_pct'))} / {fmt(r.get('models_unused_pct'))} |")
+              f"{fmt(r.get('poses_unused_pct'))} / {fmt(r.get('models_unused_pct'))} | {fmt(r.get('viewer_fps'))} |")
     if len(argv) > 3 and argv[2] == "--json":
         with open(argv[3], "w") as f:
             json.dump(runs, f, indent=2)

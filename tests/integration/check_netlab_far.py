@@ -27,6 +27,10 @@ warnings, fades, delay_warnings = map(
 disarms = int(re.search(r"disarms (\d+)", out).group(1))
 check(delay_warnings >= 1, f"the watchdog warned of the felt lag ({delay_warnings} delay warnings)")
 check(fades == 0 and disarms == 0, f"100 ms of lag neither fades nor disarms the force (fades {fades}, disarms {disarms})")
+# Until its first model the stylus is free: discovery (SPDP, then SEDP: 2-3 round trips) and the
+# first pose's answer (one more), so a few round trips; 6 (0.6 s) at most.
+first = float(re.search(r"first force model ([\d.]+) s", out).group(1))
+check(first <= 0.6, f"first force within 6 round trips of the bridge's start ({first} s)")
 peak = float(re.search(r"pressing ([\d.]+) N", out).group(1))
 # The tissue block's physics at 5 mm is ~0.94 N (integration.openhaptics_chain, on loopback).
 check(0.9 <= peak <= 1.3, f"the force is rendered, not faded: peak at 5 mm within [0.9, 1.3] N ({peak} N)")

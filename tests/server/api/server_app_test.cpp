@@ -445,7 +445,8 @@ TEST_F(ServerAppTest, ScoresAreCheckedAndEachSessionScoredByItsOwnRaters) {
 }
 
 TEST_F(ServerAppTest, PauseFreezesSimTimeAndResumeAndResetWork) {
-  ASSERT_TRUE(Create("p").ok());
+  const grpc::Status created = Create("p");
+  ASSERT_TRUE(created.ok()) << created.error_code() << ": " << created.error_message();
   std::this_thread::sleep_for(50ms);
   grpc::ClientContext c1;
   hapsim::v1::SessionRef ref;

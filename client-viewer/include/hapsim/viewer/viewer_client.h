@@ -50,6 +50,7 @@ struct ViewerOptions {
 struct ViewerStats {
   std::uint64_t frames = 0, keyframes = 0, deltas = 0, bytes = 0;
   std::uint64_t gaps = 0, topology_mismatches = 0, malformed = 0, resubscribes = 0;
+  double first_sim_time_s = 0.0;  // of the first frame received: with the last, the frame rate once streaming
   double last_sim_time_s = 0.0;
   double peak_tool_force_N = 0.0;  // the highest ViewerFrame::peak_force_N read
   std::string final_status;        // how the last stream ended
