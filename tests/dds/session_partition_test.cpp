@@ -1,6 +1,9 @@
 // dds::SessionPartition: a session id maps one-to-one onto a plain DDS
 // partition name that matches only itself (Cyclone reads '*' and '?' as
 // patterns and has no escape).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <array>
 #include <chrono>
 #include <cstring>
@@ -8,12 +11,9 @@
 #include <string>
 #include <thread>
 
-#include <unistd.h>
-
-#include <gtest/gtest.h>
-
 #include "hapsim/dds/dds.h"
 #include "haptics.h"
+#include "test_dds_domain.h"
 
 namespace hapsim::dds {
 namespace {
@@ -60,7 +60,7 @@ TEST(SessionPartition, DistinctIdsGetDistinctPartitions) {
 // writer in the partition of "ab" publishes, and vice versa; the same id
 // on both sides does communicate (so the silence is the partition's doing).
 TEST(SessionPartition, AWildcardIdMatchesOnlyItselfOnTheWire) {
-  const std::uint32_t domain = 200 + static_cast<std::uint32_t>(::getpid() % 30);
+  const std::uint32_t domain = test::ClaimTestDdsDomain();
   Participant p({domain, ""});
   auto count_received = [&](const std::string& writer_id, const std::string& reader_id) {
     Writer<hapsim_dds_StylusPose> w(p, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose", SessionPartition(writer_id));

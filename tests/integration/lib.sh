@@ -6,7 +6,20 @@ bin=${1:?usage: $0 BIN_DIR WORK_DIR}
 work=${2:?usage: $0 BIN_DIR WORK_DIR}
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-domain=$((150 + RANDOM % 60))
+# A DDS domain no other test process uses: the first free one of 20..219,
+# claimed by an exclusive lock held while this script (and what it starts)
+# runs — the same lock files as the C++ tests' (tests/test_dds_domain.h).
+claim_domain() {
+  local start=$((RANDOM % 200)) i d
+  for i in $(seq 0 199); do
+    d=$((20 + (start + i) % 200))
+    exec {domain_lock_fd}>>"/tmp/hapsim-test-domain-$d.lock" || continue
+    if flock -n "$domain_lock_fd"; then domain=$d; return; fi
+    exec {domain_lock_fd}>&-
+  done
+  domain=$((20 + start))  # all taken: share one, as before
+}
+claim_domain
 pids=()
 server_prefix=()  # e.g. (taskset -c 0): what start_server runs the server under
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }

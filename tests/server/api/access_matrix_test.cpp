@@ -20,6 +20,7 @@
 #include "hapsim/app/server_app.h"
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
+#include "test_dds_domain.h"
 
 namespace hapsim::service {
 namespace {
@@ -78,7 +79,7 @@ class AccessMatrixTest : public ::testing::Test {
     spdlog::set_level(spdlog::level::warn);  // the printed matrix stays readable
     ServerOptions o;
     o.listen_address = "127.0.0.1:0";
-    o.dds.domain_id = 120 + static_cast<std::uint32_t>(::getpid() % 40);
+    o.dds.domain_id = test::ClaimTestDdsDomain();
     o.classes = ParseClassConfig(kConfig, "test");
     app_ = std::make_unique<ServerApp>(o);
     auto channel =

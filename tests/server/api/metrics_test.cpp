@@ -22,6 +22,7 @@
 
 #include "hapsim/app/server_app.h"
 #include "hapsim/v1/session.grpc.pb.h"
+#include "test_dds_domain.h"
 
 namespace hapsim::service {
 namespace {
@@ -59,7 +60,7 @@ class MetricsTest : public ::testing::Test {
     ServerOptions o;
     o.listen_address = "127.0.0.1:0";
     o.metrics_listen_address = "127.0.0.1:0";
-    o.dds.domain_id = 180 + static_cast<std::uint32_t>(::getpid() % 40);
+    o.dds.domain_id = test::ClaimTestDdsDomain();
     app_ = std::make_unique<ServerApp>(o);
     ASSERT_GT(app_->metrics_port(), 0);
   }

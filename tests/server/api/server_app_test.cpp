@@ -20,6 +20,7 @@
 #include "hapsim/dds/dds.h"
 #include "hapsim/v1/session.grpc.pb.h"
 #include "hapsim/v1/viewer.grpc.pb.h"
+#include "test_dds_domain.h"
 
 namespace hapsim::service {
 namespace {
@@ -27,10 +28,7 @@ namespace {
 using namespace std::chrono_literals;
 
 // Each test gets its own DDS domain so parallel ctest runs do not mix.
-std::uint32_t NextDomain() {
-  static std::uint32_t domain = 40 + static_cast<std::uint32_t>(::getpid() % 100);
-  return domain++;
-}
+std::uint32_t NextDomain() { return test::ClaimTestDdsDomain(); }
 
 class ServerAppTest : public ::testing::Test {
  protected:

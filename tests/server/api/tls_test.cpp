@@ -14,6 +14,7 @@
 
 #include "hapsim/app/server_app.h"
 #include "hapsim/v1/session.grpc.pb.h"
+#include "test_dds_domain.h"
 
 namespace hapsim::service {
 namespace {
@@ -44,7 +45,7 @@ class TlsTest : public ::testing::Test {
   void Start(bool require_client_cert) {
     ServerOptions o;
     o.listen_address = "127.0.0.1:0";
-    o.dds.domain_id = 160 + static_cast<std::uint32_t>(::getpid() % 20);
+    o.dds.domain_id = test::ClaimTestDdsDomain();
     o.tls_cert_file = (dir_ / "server.pem").string();
     o.tls_key_file = (dir_ / "server.key").string();
     if (require_client_cert) o.tls_client_ca_file = (dir_ / "ca.pem").string();
