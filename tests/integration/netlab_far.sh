@@ -11,16 +11,10 @@
 # Exits 77 (skipped) where namespaces cannot be made.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-repo=$(cd "$here/../.." && pwd)
-netlab="$repo/netlab/netlab.sh"
-export HAPSIM_LINKEM="$bin/hapsim-linkem" HAPSIM_NETLAB_STATE="$work/state"
-"$netlab" check || exit 77
-lab=far$$
-trap 'cleanup; "$netlab" down $lab >/dev/null 2>&1 || true' EXIT
-"$netlab" up "$lab" --seconds 90 --owner $$ --realtime server far=delay_ms=50 lost=delay_ms=1
+source "$here/netlab_lib.sh"
+lab_up far --seconds 90 --realtime server far=delay_ms=50 lost=delay_ms=1
 "$repo/deploy/make-dds-config.sh" --interface hl0 --peer 10.77.0.1 --peer 10.77.0.2 --peer 10.77.0.3 \
     --out dds.xml
-on_bg() { "$netlab" exec "$lab" "$@" & }
 # Milliseconds since the epoch.
 now_ms() { echo $(( $(date +%s%N) / 1000000 )); }
 

@@ -12,19 +12,12 @@
 # link). Exits 77 (skipped) where namespaces cannot be made.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-repo=$(cd "$here/../.." && pwd)
-netlab="$repo/netlab/netlab.sh"
-export HAPSIM_LINKEM="$bin/hapsim-linkem" HAPSIM_NETLAB_STATE="$work/state"
-"$netlab" check || exit 77
-lab=it$$
-trap 'cleanup; "$netlab" down $lab >/dev/null 2>&1 || true' EXIT
-"$netlab" up "$lab" --seconds 120 --owner $$ --realtime \
+source "$here/netlab_lib.sh"
+lab_up it --seconds 120 --realtime \
     server trainee=delay_ms=10 cut=delay_ms=10,outage=5+2 viewer=delay_ms=25,loss=0.01
 "$repo/deploy/make-dds-config.sh" --interface hl0 --peer 10.77.0.1 --peer 10.77.0.2 --peer 10.77.0.3 \
     --out dds.xml
 on() { "$netlab" exec "$lab" "$@"; }
-# A process on a host in the background; $! is the process itself (netlab.sh and ip exec into it).
-on_bg() { "$netlab" exec "$lab" "$@" & }
 
 # hapsim across it. Lab time: the cut host's outage is at 5-7 s, while its bridge presses (from ~2 s to ~10.5 s).
 # A class on TLS with tokens (sessions t1, t2), as a skills lab runs it.

@@ -61,7 +61,8 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   }
   const std::size_t echo_slot = echo % kSentRing;
   const bool first_answer = counters_.models_taken == 0 || echo != counters_.last_echo_seq;
-  const bool echo_remembered = first_answer && sent_seq_[echo_slot] == echo;
+  const bool echo_known = sent_seq_[echo_slot] == echo;  // a pose this channel sensed (within the ring)
+  const bool echo_remembered = first_answer && echo_known;
   if (echo_remembered && physics_reference_) {
     tick_.physics_at_echo_W_N =
         core::EvaluateLocalForce(incoming.model, sent_tip_W_m_[echo_slot], sent_velocity_W_m_per_s_[echo_slot]);
@@ -77,7 +78,7 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
     counters_.models_unused += incoming.seq - model_.seq - 1;
   model_ = incoming;
   // Later models for the same pose answer it too (their physics is as old).
-  physics_known_ = sent_seq_[echo_slot] == echo;
+  physics_known_ = echo_known;
   if (physics_known_) physics_sensed_ns_ = sent_ns_[echo_slot];
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
