@@ -40,6 +40,21 @@
 #                                    change, e.g. per-session partitions) that
 #                                    mode's baseline runs are skipped.
 #   DDSPERF_S [10]                   ddsperf ping duration (0: skip)
+#   LINKS [loopback]                 where the clients reach the server, one
+#                                    series each: `loopback` (127.0.0.1, the
+#                                    shipped loopback DDS config) or a link of
+#                                    the network lab (netlab/netlab.sh), as
+#                                    hapsim-linkem's --host keys, e.g.
+#                                    `delay_ms=0` or `delay_ms=5,loss=0.01`:
+#                                    the server on lab host `server`, the
+#                                    clients (and hapsim-ctl) on host
+#                                    `trainees` behind that access link, DDS
+#                                    on deploy/make-dds-config.sh's unicast
+#                                    LAN config; the emulator is pinned to
+#                                    core 1 with the clients, and its report
+#                                    (packets, drops, lateness) is kept as
+#                                    link.json. Lab runs need root,
+#                                    /dev/net/tun and iproute2.
 #
 # Before and after each run the host's UDP traffic is sampled for 1 s with
 # nothing of ours running; a row whose background exceeds 1000 datagrams/s is
@@ -48,7 +63,8 @@
 # Needs 2+ CPUs (taskset -c 0 / -c 1), ddsperf (cyclonedds-tools). Every
 # process it starts is killed on exit; all traffic stays on 127.0.0.1
 # (deploy/cyclonedds-loopback.xml, gRPC on 127.0.0.1, random test DDS
-# domains 210-232); each client runs under `timeout`.
+# domains 210-232) or inside the lab's namespaces (removed on exit); each
+# client runs under `timeout`.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 here=$(cd "$(dirname "$0")" && pwd)
@@ -65,11 +81,23 @@ if [ -z "${BASELINE_CLIENT_BIN:-}" ]; then
   [ -n "$BASELINE_BIN" ] && [ -x "$BASELINE_BIN/hapsim-bridge" ] && BASELINE_CLIENT_BIN=$BASELINE_BIN
 fi
 DDSPERF_S=${DDSPERF_S:-10}
+LINKS=${LINKS:-loopback}
 dds_uri=file://$root/deploy/cyclonedds-loopback.xml
+netlab="$root/netlab/netlab.sh"
+export HAPSIM_LINKEM="$bin/hapsim-linkem"
+lab=""  # the network lab of the current run, if any
 
 die() { echo "capacity.sh: $*" >&2; exit 2; }
 for n in $COUNTS; do [[ $n =~ ^[0-9]+$ && $n -ge 1 && $n -le 64 ]] || die "COUNTS: $n is not in 1..64"; done
 for m in $MODES; do [[ $m == load || $m == bridges ]] || die "MODES: unknown mode $m (load, bridges)"; done
+for l in $LINKS; do
+  [[ $l == loopback || $l =~ ^[a-z_]+=[0-9.]+(,[a-z_]+=[0-9.]+)*$ ]] ||
+    die "LINKS: '$l' is neither loopback nor a link like delay_ms=5,loss=0.01"
+done
+if [[ " $LINKS " != " loopback " ]]; then
+  [ -x "$bin/hapsim-linkem" ] || die "$bin/hapsim-linkem not found (LINKS needs the network lab)"
+  "$netlab" check >/dev/null || die "LINKS needs the network lab: $("$netlab" check)"
+fi
 [[ $RUN_S =~ ^[0-9]+([.][0-9]+)?$ ]] || die "RUN_S must be a number of seconds"
 client_timeout=$((${RUN_S%.*} + 61))
 for b in hapsim-server hapsim-ctl hapsim-load hapsim-bridge; do [ -x "$bin/$b" ] || die "$bin/$b not found"; done
@@ -90,11 +118,43 @@ cleanup() {
   for p in "${pids[@]}"; do kill -TERM -- "-$p" "$p" 2>/dev/null || true; done
   sleep 0.3
   for p in "${pids[@]}"; do kill -KILL -- "-$p" "$p" 2>/dev/null || true; done
+  [ -z "$lab" ] || "$netlab" down "$lab" >/dev/null 2>&1 || true
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 new_domain() { echo $((210 + RANDOM % 23)); }
+
+# Where the processes of a run live: on 127.0.0.1, or on the lab's hosts.
+on_server=() on_clients=() server_ip=127.0.0.1 dds_flags=()
+# place LINK: set the above for LINK; in a lab, bring it up (the emulator on core 1)
+place() {
+  if [ "$1" = loopback ]; then
+    on_server=() on_clients=() server_ip=127.0.0.1 dds_flags=()
+    return
+  fi
+  lab=cap$$
+  "$netlab" up "$lab" --seconds 600 --owner $$ --realtime server "trainees=$1" >/dev/null
+  taskset -pc 1 "$(cat "${HAPSIM_NETLAB_STATE:-/run/hapsim-netlab}/$lab/linkem.pid")" >/dev/null
+  on_server=("$netlab" exec "$lab" server) on_clients=("$netlab" exec "$lab" trainees) server_ip=10.77.0.1
+  dds_flags=(--dds-config "$out/lab-dds.xml")
+}
+# unplace DIR: take the lab down and keep its emulator's report in DIR/link.json
+unplace() {
+  [ -n "$lab" ] || return 0
+  cat "/proc/$(cat "${HAPSIM_NETLAB_STATE:-/run/hapsim-netlab}/$lab/linkem.pid")/stat" >"$1/linkem_stat.txt" 2>/dev/null || true
+  "$netlab" down "$lab" >/dev/null 2>&1 || true
+  cp "${HAPSIM_NETLAB_STATE:-/run/hapsim-netlab}/$lab/report.json" "$1/link.json" 2>/dev/null || true
+  lab=""
+}
+# udp_counters FILE: the Udp: lines of /proc/net/snmp where the run's processes are
+# (the host, or the sum over the lab's two hosts)
+udp_counters() {
+  if [ -z "$lab" ]; then grep '^Udp:' /proc/net/snmp >"$1"; return; fi
+  { "${on_server[@]}" grep '^Udp:' /proc/net/snmp; "${on_clients[@]}" grep '^Udp:' /proc/net/snmp; } |
+    awk 'NR == 1 { print; next } NR == 2 || NR == 4 { for (i = 2; i <= NF; i++) sum[i] += $i; n = NF }
+         END { printf "Udp:"; for (i = 2; i <= n; i++) printf " %d", sum[i]; print "" }' >"$1"
+}
 udp_out() { awk '/^Udp:/ { if (++line == 2) print $5 }' /proc/net/snmp; }
 # background SUFFIX: the host's UDP datagrams sent in 1 s with nothing of ours running -> run.env
 background() {
@@ -106,9 +166,10 @@ background() {
 client() { if [ -x "$1/$2" ]; then echo "$1/$2"; else echo "$bin/$2"; fi; }
 snapshot() {  # snapshot PID SUFFIX: server CPU, UDP counters, wall clock
   cat "/proc/$1/stat" >"stat_$2.txt"
-  grep '^Udp:' /proc/net/snmp >"snmp_$2.txt"
+  udp_counters "snmp_$2.txt"
   date +%s.%N >"wall_$2.txt"
   cut -d' ' -f1-3 /proc/loadavg >"loadavg_$2.txt"
+  grep -E '^cpu[01] ' /proc/stat >"cores_$2.txt"  # busy time of the server's core and the clients' core
 }
 # stop_server PID: SIGTERM, at most 10 s, then SIGKILL; appends its exit code to run.env
 stop_server() {
@@ -121,10 +182,10 @@ stop_server() {
   echo "server_rc=$rc" >>run.env
 }
 
-# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N
+# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N [LINK]
 run_one() {
-  local mode=$1 label=$2 server_dir=$3 client_dir=$4 scene=$5 n=$6
-  local dir="$out/runs/$mode-$label-$scene-$n" domain server addr i rc client_rc=0 failure="" ctl bridges=()
+  local mode=$1 label=$2 server_dir=$3 client_dir=$4 scene=$5 n=$6 link=${7:-loopback}
+  local dir="$out/runs/$mode-$label-$scene-$n${7:+-$7}" domain server addr i rc client_rc=0 failure="" ctl bridges=()
   rm -rf "$dir" && mkdir -p "$dir"
   echo "$dir" >>"$out/runs.txt"
   echo "$(date -u +%T) $mode / $label server / $scene / N=$n (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
@@ -133,41 +194,42 @@ run_one() {
   {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
     echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
-    echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"
+    echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
   } >run.env
   background before
-  taskset -c 0 "$server_dir/hapsim-server" --listen 127.0.0.1:0 --port-file port --max-sessions 64 \
-      --dds-domain "$domain" >server.out 2>server.log &
+  place "$link"
+  "${on_server[@]}" taskset -c 0 "$server_dir/hapsim-server" --listen "$server_ip:0" --port-file port \
+      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
   if [ ! -s port ]; then
-    echo "failure=server did not start" >>run.env; stop_server "$server"; cd "$out"; return
+    echo "failure=server did not start" >>run.env; stop_server "$server"; unplace "$dir"; cd "$out"; return
   fi
-  addr=127.0.0.1:$(cat port)
-  ctl=(taskset -c 1 timeout 30 "$bin/hapsim-ctl" --server "$addr")
+  addr=$server_ip:$(cat port)
+  ctl=("${on_clients[@]}" taskset -c 1 timeout 30 "$bin/hapsim-ctl" --server "$addr")
   for ((i = 0; i < n; i++)); do
     if ! "${ctl[@]}" create --id "cap-$i" --scene "$scene" >>create.out 2>>create.err; then
       failure="hapsim-ctl create cap-$i failed: $(tail -1 create.err)"; break
     fi
   done
   if [ -n "$failure" ]; then
-    echo "failure=$failure" >>run.env; stop_server "$server"; cd "$out"; return
+    echo "failure=$failure" >>run.env; stop_server "$server"; unplace "$dir"; cd "$out"; return
   fi
   sleep 0.5
   "${ctl[@]}" list >list_before.txt || true
   snapshot "$server" before
   if [ "$mode" = load ]; then
-    taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" --server "$addr" \
-        --dds-domain "$domain" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
+    "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" \
+        --server "$addr" --dds-domain "$domain" "${dds_flags[@]}" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
         --json load.json --csv load.csv --server-stats >load.out 2>load.err &
     pids+=("$!")
     wait "$!" || client_rc=$?
     forget "$!"
   else
     for ((i = 0; i < n; i++)); do
-      taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-bridge)" --session "cap-$i" \
-          --device-id $((1000 + i)) --script "$SCRIPT" --keep-running --seconds "$RUN_S" \
-          --dds-domain "$domain" --log-level warn >"bridge-$i.out" 2>"bridge-$i.err" &
+      "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-bridge)" \
+          --session "cap-$i" --device-id $((1000 + i)) --script "$SCRIPT" --keep-running --seconds "$RUN_S" \
+          --dds-domain "$domain" "${dds_flags[@]}" --log-level warn >"bridge-$i.out" 2>"bridge-$i.err" &
       bridges+=("$!"); pids+=("$!")
       sleep "$(awk -v n="$n" 'BEGIN { printf "%.4f", 1.0 / n }')"
     done
@@ -182,28 +244,33 @@ run_one() {
   "${ctl[@]}" list >list_after.txt || true
   echo "client_rc=$client_rc" >>run.env
   stop_server "$server"
+  unplace "$dir"
   background after
   cd "$out"
 }
 
-# The transport baseline: ddsperf ping/pong at 1 kHz, pong on core 0, ping on core 1.
-run_ddsperf() {
-  local dir="$out/runs/ddsperf" domain pong
+# The transport baseline: ddsperf ping/pong at 1 kHz, pong on core 0 (the server's place), ping on core 1.
+run_ddsperf() {  # LINK
+  local link=$1 dir="$out/runs/ddsperf" domain pong uri=$dds_uri
+  [ "$link" = loopback ] || dir+="-$link"
   mkdir -p "$dir"
-  echo "$(date -u +%T) ddsperf ping/pong 1 kHz for ${DDSPERF_S} s" >&2
+  echo "$(date -u +%T) ddsperf ping/pong 1 kHz for ${DDSPERF_S} s ($link)" >&2
   cd "$dir"
   domain=$(new_domain)
-  : >run.env
+  echo "link=$link" >run.env
   background before
-  grep '^Udp:' /proc/net/snmp >snmp_before.txt
-  CYCLONEDDS_URI=$dds_uri taskset -c 0 timeout -k 5 $((DDSPERF_S + 20)) \
+  place "$link"
+  [ -z "$lab" ] || uri=file://$out/lab-dds.xml
+  udp_counters snmp_before.txt
+  "${on_server[@]}" env CYCLONEDDS_URI="$uri" taskset -c 0 timeout -k 5 $((DDSPERF_S + 20)) \
       ddsperf -i "$domain" -D $((DDSPERF_S + 2)) pong waitset >pong.out 2>&1 &
   pong=$!; pids+=("$pong")
-  CYCLONEDDS_URI=$dds_uri taskset -c 1 timeout -k 5 $((DDSPERF_S + 20)) \
+  "${on_clients[@]}" env CYCLONEDDS_URI="$uri" taskset -c 1 timeout -k 5 $((DDSPERF_S + 20)) \
       ddsperf -i "$domain" -D "$DDSPERF_S" ping 1kHz waitset >ping.out 2>&1 || echo "ping exited $?" >>ping.out
   wait "$pong" || true
   forget "$pong"
-  grep '^Udp:' /proc/net/snmp >snmp_after.txt
+  udp_counters snmp_after.txt
+  unplace "$dir"
   background after
   cd "$out"
 }
@@ -214,11 +281,18 @@ run_ddsperf() {
   echo "commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet HEAD 2>/dev/null || echo +modified)"
   echo "counts=$COUNTS"; echo "scenes=$SCENES"; echo "modes=$MODES"; echo "run_s=$RUN_S"; echo "script=$SCRIPT"
   echo "baseline=${BASELINE_BIN:-none}"; echo "rmem_default=$(cat /proc/sys/net/core/rmem_default)"
-  echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"
+  echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"; echo "links=$LINKS"
 } >"$out/meta.env"
+# The lab's hosts: server 10.77.0.1, trainees 10.77.0.2 (unicast peers, as deployed on a LAN).
+[[ " $LINKS " == " loopback " ]] ||
+  "$root/deploy/make-dds-config.sh" --interface hl0 --peer 10.77.0.1 --peer 10.77.0.2 --out "$out/lab-dds.xml"
 
 if [ "$DDSPERF_S" != 0 ]; then
-  if command -v ddsperf >/dev/null; then run_ddsperf; else echo "capacity.sh: ddsperf not found, no transport baseline" >&2; fi
+  if command -v ddsperf >/dev/null; then
+    for link in $LINKS; do run_ddsperf "$link"; done
+  else
+    echo "capacity.sh: ddsperf not found, no transport baseline" >&2
+  fi
 fi
 # Which modes' clients can drive the baseline server (1 s probe, tissue_block, N = 1).
 baseline_modes=""
@@ -239,15 +313,19 @@ if [ -n "$BASELINE_BIN" ]; then
   RUN_S=$saved_run_s
   : >"$saved_runs"
 fi
-for mode in $MODES; do
-  for scene in $SCENES; do
-    for n in $COUNTS; do
-      run_one "$mode" current "$bin" "$bin" "$scene" "$n"
-      if [[ " $baseline_modes " == *" $mode "* ]]; then
-        run_one "$mode" baseline "$BASELINE_BIN" "$BASELINE_CLIENT_BIN" "$scene" "$n"
-      fi
+for link in $LINKS; do
+  for mode in $MODES; do
+    for scene in $SCENES; do
+      for n in $COUNTS; do
+        # shellcheck disable=SC2046  # the link joins the run's name only in a lab
+        run_one "$mode" current "$bin" "$bin" "$scene" "$n" $([ "$link" = loopback ] || echo "$link")
+        if [[ " $baseline_modes " == *" $mode "* ]]; then
+          run_one "$mode" baseline "$BASELINE_BIN" "$BASELINE_CLIENT_BIN" "$scene" "$n" \
+              $([ "$link" = loopback ] || echo "$link")
+        fi
+      done
     done
   done
 done
-python3 "$here/capacity_table.py" "$out" | tee "$out/capacity.md"
+/usr/bin/python3 "$here/capacity_table.py" "$out" | tee "$out/capacity.md"
 echo "raw outputs: $out/runs, per-run figures: $out/capacity.csv" >&2

@@ -21,6 +21,10 @@ than 1000 UDP datagrams/s in the 1 s sampled before or after it, with
 nothing of the benchmark running.
 The ddsperf row: medians of the per-second 50 % and 99 % figures, the
 largest per-second max; its UDP column is datagrams per round trip.
+Runs across the network lab (capacity.sh's LINKS) name their link in the
+server column ("current @ delay_ms=5"); their UDP figures are the server's and
+the clients' namespaces together, and a line under the table gives each lab
+run's emulator report (packets carried, drops, forwarding lateness).
 """
 import csv
 import glob
@@ -132,9 +136,54 @@ def fmt(value, spec, missing="-"):
     return missing if value is None else format(value, spec)
 
 
+def link_label(env):
+    link = env.get("link", "loopback")
+    return "" if link == "loopback" else f" @ {link}"
+
+
+def core_busy(run_dir, core):
+    """share of the drive window core `core` was busy (/proc/stat cpuN: all but idle and iowait), or None"""
+    try:
+        def read(suffix):
+            for line in open(f"{run_dir}/cores_{suffix}.txt"):
+                f = line.split()
+                if f[0] == f"cpu{core}":
+                    ticks = [int(x) for x in f[1:]]
+                    return sum(ticks), ticks[3] + ticks[4]
+        (total0, idle0), (total1, idle1) = read("before"), read("after")
+        return 1.0 - (idle1 - idle0) / (total1 - total0)
+    except (OSError, TypeError, ZeroDivisionError):
+        return None
+
+
+def emulator(run_dir):
+    """the lab's emulator report (link.json) -> one line, or None on loopback"""
+    try:
+        report = json.load(open(f"{run_dir}/link.json"))
+    except (OSError, ValueError):
+        return None
+    hosts = report["hosts"]
+    carried = sum(h["sent_packets"] for h in hosts)
+    dropped = sum(h[k] for h in hosts for k in h if k.startswith("dropped_"))
+    late = report["lateness_us"]
+    line = (f"{carried / report['elapsed_s']:.0f} packets/s carried, {dropped} dropped, forwarding lateness "
+            f"p50 {late['p50']:.0f} / p99 {late['p99']:.0f} / max {late['max']:.0f} µs")
+    try:  # the emulator's whole life (the lab's), against the report's elapsed time
+        clk = int(read_env(f"{run_dir}/run.env").get("clk_tck", 100))
+        line += f"; emulator {100 * cpu_seconds(f'{run_dir}/linkem_stat.txt', clk) / report['elapsed_s']:.0f} % of a core"
+    except (OSError, IndexError, ValueError):
+        pass
+    busy = core_busy(run_dir, 1)
+    if busy is not None:
+        line += f", clients' core (with the emulator) busy {100 * busy:.0f} % while driving"
+    return line
+
+
 def run_row(run_dir):
     env = read_env(f"{run_dir}/run.env")
     row = {k: env.get(k, "") for k in ("mode", "server", "scene", "n")}
+    row["server"] += link_label(env)
+    row["emulator"] = emulator(run_dir)
     row["failure"] = env.get("failure", "")
     background = [int(env[k]) for k in ("background_udp_per_s_before", "background_udp_per_s_after") if k in env]
     row["background_udp_per_s"] = max(background) if background else None
@@ -203,8 +252,8 @@ def ddsperf_row(run_dir):
     udp = udp_delta(run_dir)
     env = read_env(f"{run_dir}/run.env")
     background = [int(env[k]) for k in ("background_udp_per_s_before", "background_udp_per_s_after") if k in env]
-    return {"background_udp_per_s": max(background) if background else None,
-            "mode": "ddsperf ping/pong 1 kHz", "server": "-", "scene": "-", "n": "1", "failure": "",
+    return {"background_udp_per_s": max(background) if background else None, "emulator": emulator(run_dir),
+            "mode": "ddsperf ping/pong 1 kHz", "server": "-" + link_label(env), "scene": "-", "n": "1", "failure": "",
             "seconds": len(p50), "round_trips": count,
             "rt_p50_ms": statistics.median(p50) / 1e3 if p50 else None,
             "rt_p99_ms": statistics.median(p99) / 1e3 if p99 else None,
@@ -234,8 +283,9 @@ def table_line(r):
 
 
 rows = []
-if os.path.exists(f"{out}/runs/ddsperf/ping.out"):
-    rows.append(ddsperf_row(f"{out}/runs/ddsperf"))
+# loopback's first, then the lab's links
+for ping in sorted(glob.glob(f"{out}/runs/ddsperf*/ping.out"), key=lambda p: ("ddsperf/" not in p, p)):
+    rows.append(ddsperf_row(os.path.dirname(ping)))
 for run_dir in open(f"{out}/runs.txt").read().split():
     rows.append(run_row(run_dir))
 
@@ -250,6 +300,11 @@ print("| mode | server | scene | N | late ticks % | round trip p50 / p99 / max m
 print("|---|---|---|---|---|---|---|---|---|---|---|")
 for r in rows:
     print(table_line(r))
+lab_rows = [r for r in rows if r.get("emulator")]
+if lab_rows:
+    print()
+    for r in lab_rows:
+        print(f"- link emulator, {r['mode']} / {r['server']} / {r['scene']} / N={r['n']}: {r['emulator']}")
 marked = [r for r in rows if (r.get("background_udp_per_s") or 0) > BACKGROUND_LIMIT]
 if marked:
     print()

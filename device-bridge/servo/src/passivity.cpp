@@ -12,16 +12,19 @@ PassivityController::Action PassivityController::Control(Eigen::Vector3d& f, con
   const double energy_after_J = energy_J_ - f.dot(v) * dt_s;
   if (!(energy_after_J < 0.0)) return Action::kNone;
   const double needed_Ns_per_m = -energy_after_J / (speed_sq * dt_s);
-  if (needed_Ns_per_m <= max_damping_Ns_per_m_) {
+  // Taking back the force's push along the motion (any share of it, down to
+  // none) only removes force, whatever the speed: that needs no cap. Only
+  // what would oppose the motion beyond it is damping, which the device can
+  // render stably up to its cap.
+  const double push_Ns_per_m = std::max(0.0, f.dot(v) / speed_sq);
+  if (needed_Ns_per_m <= push_Ns_per_m + max_damping_Ns_per_m_) {
     f -= needed_Ns_per_m * v;
     return Action::kCorrected;
   }
-  // The device cannot damp the deficit away this tick: the part of the force
-  // that pushes along the motion (what gives the hand energy) goes too, so
-  // the rendering only dissipates until E is paid back.
-  const double along_Ns_per_m = f.dot(v) / speed_sq;
-  if (along_Ns_per_m > 0.0) f -= along_Ns_per_m * v;
-  f -= max_damping_Ns_per_m_ * v;
+  // The deficit is larger than the push and the device's damping together
+  // (E was below zero already): both go, and E rises every such tick until
+  // it is paid back.
+  f -= (push_Ns_per_m + max_damping_Ns_per_m_) * v;
   return Action::kBounded;
 }
 

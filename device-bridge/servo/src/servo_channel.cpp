@@ -23,10 +23,12 @@ ServoChannel::ServoChannel(HapticDevice* device, const ChannelConfig& config)
   sent_seq_.fill(~0ull);
 }
 
-const DeviceReading& ServoChannel::Sense(double t_s) {
+const DeviceReading& ServoChannel::Sense(double t_s) { return Sense(t_s, common::SteadyNowNs()); }
+
+const DeviceReading& ServoChannel::Sense(double t_s, std::int64_t now_ns) {
   tick_.reading = device_->Read(t_s);
   const DeviceReading& r = tick_.reading;
-  sensed_ns_ = common::SteadyNowNs();
+  sensed_ns_ = now_ns;
   const std::uint64_t seq = next_seq_++;
   pose_.seq = seq;
   pose_.t_device_ns = sensed_ns_;

@@ -11,14 +11,19 @@
 // a sampled stiff wall) and can build up to a kick or an oscillation.
 //
 // Controller: when this tick's force would take E below zero, it adds
-// damping -alpha v with alpha = -E/(|v|^2 dt), which dissipates exactly the
-// deficit (E ends at 0). alpha is capped at the device's largest stable
-// damping; when the cap is not enough (a long link: models far behind the
-// hand), the force's component along the motion — the part that gives the
-// hand energy — is removed as well and the capped damping alone stays on
-// that axis, so E rises every such tick until it is paid back, and never
-// falls while negative. With the stylus still nothing can be done (and
-// nothing is being done to the hand).
+// damping -alpha v with alpha = -E_after/(|v|^2 dt), which dissipates exactly
+// the deficit (E ends at 0). The part of alpha that only takes back the
+// force's push along the motion (f.v/|v|^2, down to no push at all) removes
+// force whatever the speed and needs no cap; what opposes the motion beyond
+// it is damping, capped at the device's largest stable damping. With E >= 0
+// before the tick the deficit is never more than the push, so the force is
+// never cut by more than it must be (no pulses of full force between ticks of
+// over-damping while E refills: a stylus drawn back against a tissue that
+// has returned all it stored feels the push fade to nothing, smoothly). Only
+// when E is below zero already (after a tick left uncorrected) does the
+// controller take the whole push and the capped damping, so E rises every
+// such tick until it is paid back. With the stylus still nothing can be
+// done (and nothing is being done to the hand).
 //
 // The observer integrates the force actually commanded, after every later
 // stage of the chain. Those only scale the force by a factor in [0, 1],

@@ -79,6 +79,9 @@ class ServoChannel {
 
   // t_s: the device's time since its start (scripts and replays follow it).
   const DeviceReading& Sense(double t_s);
+  // The same, sensed at now_ns on the clock models' received_ns use (the
+  // steady clock above; a simulated one where a test runs the whole loop).
+  const DeviceReading& Sense(double t_s, std::int64_t now_ns);
   const SensedPose& pose() const { return pose_; }
   // Should the pose just sensed go out (PoseDeadband)? The caller sends it only then.
   bool pose_due() const { return pose_due_; }
@@ -88,6 +91,7 @@ class ServoChannel {
   const ChannelCounters& counters() const { return counters_; }
   const SafetyCounters& safety_counters() const { return safety_.counters(); }
   WatchdogState watchdog() const { return safety_.state(); }
+  double passivity_energy_J() const { return safety_.passivity_energy_J(); }  // the observer's E
   core::ContactState model_state() const { return have_model_ ? model_.model.state : core::ContactState::kFree; }
   std::uint32_t device_id() const { return pose_.device_id; }
   common::Percentiles RoundTrip() const { return round_trip_s_.Summary(); }
