@@ -122,7 +122,7 @@ struct BridgeFlags {
   OpenHapticsFlags openhaptics;
   int device_id = 1;
   double seconds = 0.0, rate_hz = 1000.0, model_delay_ms = 0.0;
-  double pose_deadband_mm = 0.0, pose_deadband_velocity_mm_s = 5.0, pose_keepalive_ms = 25.0;
+  hapsim::bridge::PoseDeadbandFlags pose_deadband;
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
@@ -146,14 +146,7 @@ void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
   flags.Add("rate-hz", &f->rate_hz, "servo loop rate [Hz]");
   flags.Add("model-delay-ms", &f->model_delay_ms,
             "measurement: hold every force model this long before the servo sees it, as a longer link would [ms]");
-  flags.Add(
-      "pose-deadband-mm", &f->pose_deadband_mm,
-      "send a pose only when it is this far from where the server extrapolates the last one sent\n"
-      "(or its velocity changed, its buttons changed, or a keep-alive is due; docs/deploy.md). 0: every tick [mm]");
-  flags.Add("pose-deadband-velocity-mm-s", &f->pose_deadband_velocity_mm_s,
-            "with --pose-deadband-mm: a velocity change that sends a pose [mm/s]");
-  flags.Add("pose-keepalive-ms", &f->pose_keepalive_ms,
-            "with --pose-deadband-mm: a pose goes out at least this often [ms]");
+  hapsim::bridge::AddPoseDeadbandFlags(flags, &f->pose_deadband);
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
   flags.Add("trace", &f->trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
   hapsim::bridge::AddProcessFlags(flags, &f->process);
@@ -193,10 +186,6 @@ bool BridgeFlagsInRange(const BridgeFlags& f) {
        hapsim::common::kMaxFlagSecondsRange},
       {f.device_id >= 0, "--device-id", ">= 0"},
       {f.model_delay_ms >= 0.0 && f.model_delay_ms <= 1000.0, "--model-delay-ms", "[0, 1000]"},
-      {f.pose_deadband_mm >= 0.0 && f.pose_deadband_mm <= 10.0, "--pose-deadband-mm", "[0, 10]"},
-      {f.pose_deadband_velocity_mm_s > 0.0 && f.pose_deadband_velocity_mm_s <= 1000.0, "--pose-deadband-velocity-mm-s",
-       "(0, 1000]"},
-      {f.pose_keepalive_ms > 0.0 && f.pose_keepalive_ms <= 200.0, "--pose-keepalive-ms", "(0, 200]"},
       {hapsim::common::IsValidSessionId(f.session), "--session", "[A-Za-z0-9_-]{1,63}"},
   });
   if (!out_of_range.empty()) {
@@ -215,6 +204,7 @@ bool ConfigureBridge(const BridgeFlags& f, hapsim::bridge::SafetyConfig* safety_
                      std::vector<DeviceSpec>* specs) {
   try {
     *safety_config = f.safety.ToConfig();
+    (void)f.pose_deadband.ToConfig();  // throws on a flag out of range
     *specs = DeviceSpecs(f);
     if (f.backend == "synthetic") {
       (void)hapsim::bridge::SyntheticDevice(f.script.ToScript());  // throws on a bad script
@@ -253,9 +243,7 @@ hapsim::bridge::ServoConfig MakeBridgeServoConfig(const BridgeFlags& f,
   servo_config.run_seconds = f.seconds;
   servo_config.safety = safety_config;
   servo_config.model_delay_s = f.model_delay_ms * 1e-3;
-  servo_config.pose_deadband.position_m = f.pose_deadband_mm * 1e-3;
-  servo_config.pose_deadband.velocity_m_per_s = f.pose_deadband_velocity_mm_s * 1e-3;
-  servo_config.pose_deadband.keepalive_s = f.pose_keepalive_ms * 1e-3;
+  servo_config.pose_deadband = f.pose_deadband.ToConfig();
   servo_config.stop_when_script_finishes = !f.keep_running;
   // The trace is the first device's.
   servo_config.trace_capacity = f.trace_file.empty() || i > 0 ? 0 : static_cast<std::size_t>(f.rate_hz * 600.0);

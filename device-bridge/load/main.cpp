@@ -64,6 +64,7 @@ struct LoadFlags {
   bool keep_sessions = false, server_stats = false;
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
+  hapsim::bridge::PoseDeadbandFlags pose_deadband;
   hapsim::bridge::ProcessFlags process;
 };
 
@@ -79,6 +80,7 @@ void AddLoadFlags(hapsim::common::Flags& flags, LoadFlags* f) {
             "device i reads its script at t + i * spread / N [s] (0: all in lockstep)");
   flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
   flags.Add("rate-hz", &f->rate_hz, "servo rate of every device [Hz]");
+  hapsim::bridge::AddPoseDeadbandFlags(flags, &f->pose_deadband);
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
   flags.Add("create", &f->create_scene, "create the sessions with this scene before starting (see hapsim-ctl scenes)");
   flags.Add("params", &f->params, "with --create: scene parameters k=v,k=v (SI, as hapsim-ctl create --param)");
@@ -137,6 +139,7 @@ bool PlanLoad(LoadFlags* f, std::vector<hapsim::bridge::LoadDevicePlan>* plan,
     hapsim::bridge::ValidateSyntheticScript(f->plan_options.script);
     *plan = hapsim::bridge::PlanDevices(f->plan_options);
     run_config->safety = f->safety.ToConfig();
+    run_config->pose_deadband = f->pose_deadband.ToConfig();
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-load: %s\n", e.what());
     return false;

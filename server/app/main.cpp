@@ -79,7 +79,7 @@ void PrintHelp(const hapsim::common::Flags& flags) {
 struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
-  double pose_extrapolation_ms = 100.0, model_deadband = 0.0, model_keepalive_ms = 25.0;
+  double pose_extrapolation_ms = 100.0, model_deadband = 0.07, model_keepalive_ms = 25.0;
   int dds_domain = 0, max_sessions = 64;
 };
 

@@ -40,6 +40,12 @@
 #                                    change, e.g. per-session partitions) that
 #                                    mode's baseline runs are skipped.
 #   DDSPERF_S [10]                   ddsperf ping duration (0: skip)
+#   CODINGS [every]                  what the devices and the server send, one
+#                                    series each: `every` (a pose and a model
+#                                    every tick: --pose-deadband-mm 0 and
+#                                    --model-deadband 0, as the earlier
+#                                    figures) or `deadband` (the shipped
+#                                    defaults: perceptual deadband coding)
 #   LINKS [loopback]                 where the clients reach the server, one
 #                                    series each: `loopback` (127.0.0.1, the
 #                                    shipped loopback DDS config) or a link of
@@ -82,6 +88,7 @@ if [ -z "${BASELINE_CLIENT_BIN:-}" ]; then
 fi
 DDSPERF_S=${DDSPERF_S:-10}
 LINKS=${LINKS:-loopback}
+CODINGS=${CODINGS:-every}
 dds_uri=file://$root/deploy/cyclonedds-loopback.xml
 netlab="$root/netlab/netlab.sh"
 export HAPSIM_LINKEM="$bin/hapsim-linkem"
@@ -90,6 +97,7 @@ lab=""  # the network lab of the current run, if any
 die() { echo "capacity.sh: $*" >&2; exit 2; }
 for n in $COUNTS; do [[ $n =~ ^[0-9]+$ && $n -ge 1 && $n -le 64 ]] || die "COUNTS: $n is not in 1..64"; done
 for m in $MODES; do [[ $m == load || $m == bridges ]] || die "MODES: unknown mode $m (load, bridges)"; done
+for c in $CODINGS; do [[ $c == every || $c == deadband ]] || die "CODINGS: unknown coding $c (every, deadband)"; done
 for l in $LINKS; do
   [[ $l == loopback || $l =~ ^[a-z_]+=[0-9.]+(,[a-z_]+=[0-9.]+)*$ ]] ||
     die "LINKS: '$l' is neither loopback nor a link like delay_ms=5,loss=0.01"
@@ -151,7 +159,9 @@ unplace() {
 # (the host, or the sum over the lab's two hosts)
 udp_counters() {
   if [ -z "$lab" ]; then grep '^Udp:' /proc/net/snmp >"$1"; return; fi
-  { "${on_server[@]}" grep '^Udp:' /proc/net/snmp; "${on_clients[@]}" grep '^Udp:' /proc/net/snmp; } |
+  "${on_server[@]}" grep '^Udp:' /proc/net/snmp >"server_$1"
+  "${on_clients[@]}" grep '^Udp:' /proc/net/snmp >"clients_$1"
+  cat "server_$1" "clients_$1" |
     awk 'NR == 1 { print; next } NR == 2 || NR == 4 { for (i = 2; i <= NF; i++) sum[i] += $i; n = NF }
          END { printf "Udp:"; for (i = 2; i <= n; i++) printf " %d", sum[i]; print "" }' >"$1"
 }
@@ -182,10 +192,22 @@ stop_server() {
   echo "server_rc=$rc" >>run.env
 }
 
-# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N [LINK]
+# The flags of a coding: for the server, for the clients.
+coding_flags() {  # CODING server|clients
+  [ "$1" = every ] || return 0
+  if [ "$2" = server ]; then echo --model-deadband 0; else echo --pose-deadband-mm 0; fi
+}
+
+# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N [LINK] (and $coding)
 run_one() {
   local mode=$1 label=$2 server_dir=$3 client_dir=$4 scene=$5 n=$6 link=${7:-loopback}
-  local dir="$out/runs/$mode-$label-$scene-$n${7:+-$7}" domain server addr i rc client_rc=0 failure="" ctl bridges=()
+  local dir="$out/runs/$mode-$label-$scene-$n${7:+-$7}"
+  [ "$coding" = every ] || dir+="-$coding"
+  local server_coding client_coding
+  read -ra server_coding <<<"$(coding_flags "$coding" server)"
+  read -ra client_coding <<<"$(coding_flags "$coding" clients)"
+  if [ "$label" = baseline ]; then server_coding=() client_coding=(); fi  # an older build: every tick, its own flags
+  local domain server addr i rc client_rc=0 failure="" ctl bridges=()
   rm -rf "$dir" && mkdir -p "$dir"
   echo "$dir" >>"$out/runs.txt"
   echo "$(date -u +%T) $mode / $label server / $scene / N=$n (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
@@ -195,11 +217,12 @@ run_one() {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
     echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
+    echo "coding=$coding"
   } >run.env
   background before
   place "$link"
   "${on_server[@]}" taskset -c 0 "$server_dir/hapsim-server" --listen "$server_ip:0" --port-file port \
-      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" >server.out 2>server.log &
+      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
   if [ ! -s port ]; then
@@ -220,7 +243,7 @@ run_one() {
   snapshot "$server" before
   if [ "$mode" = load ]; then
     "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" \
-        --server "$addr" --dds-domain "$domain" "${dds_flags[@]}" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
+        --server "$addr" --dds-domain "$domain" "${dds_flags[@]}" "${client_coding[@]}" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
         --json load.json --csv load.csv --server-stats >load.out 2>load.err &
     pids+=("$!")
     wait "$!" || client_rc=$?
@@ -229,7 +252,7 @@ run_one() {
     for ((i = 0; i < n; i++)); do
       "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-bridge)" \
           --session "cap-$i" --device-id $((1000 + i)) --script "$SCRIPT" --keep-running --seconds "$RUN_S" \
-          --dds-domain "$domain" "${dds_flags[@]}" --log-level warn >"bridge-$i.out" 2>"bridge-$i.err" &
+          --dds-domain "$domain" "${dds_flags[@]}" "${client_coding[@]}" --log-level warn >"bridge-$i.out" 2>"bridge-$i.err" &
       bridges+=("$!"); pids+=("$!")
       sleep "$(awk -v n="$n" 'BEGIN { printf "%.4f", 1.0 / n }')"
     done
@@ -281,7 +304,7 @@ run_ddsperf() {  # LINK
   echo "commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet HEAD 2>/dev/null || echo +modified)"
   echo "counts=$COUNTS"; echo "scenes=$SCENES"; echo "modes=$MODES"; echo "run_s=$RUN_S"; echo "script=$SCRIPT"
   echo "baseline=${BASELINE_BIN:-none}"; echo "rmem_default=$(cat /proc/sys/net/core/rmem_default)"
-  echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"; echo "links=$LINKS"
+  echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"; echo "links=$LINKS"; echo "codings=$CODINGS"
 } >"$out/meta.env"
 # The lab's hosts: server 10.77.0.1, trainees 10.77.0.2 (unicast peers, as deployed on a LAN).
 [[ " $LINKS " == " loopback " ]] ||
@@ -295,7 +318,7 @@ if [ "$DDSPERF_S" != 0 ]; then
   fi
 fi
 # Which modes' clients can drive the baseline server (1 s probe, tissue_block, N = 1).
-baseline_modes=""
+baseline_modes="" coding=every
 if [ -n "$BASELINE_BIN" ]; then
   saved_run_s=$RUN_S saved_runs=$out/runs.txt
   RUN_S=1
@@ -314,18 +337,20 @@ if [ -n "$BASELINE_BIN" ]; then
   : >"$saved_runs"
 fi
 for link in $LINKS; do
+ for coding in $CODINGS; do
   for mode in $MODES; do
     for scene in $SCENES; do
       for n in $COUNTS; do
         # shellcheck disable=SC2046  # the link joins the run's name only in a lab
         run_one "$mode" current "$bin" "$bin" "$scene" "$n" $([ "$link" = loopback ] || echo "$link")
-        if [[ " $baseline_modes " == *" $mode "* ]]; then
+        if [[ $coding == every && " $baseline_modes " == *" $mode "* ]]; then
           run_one "$mode" baseline "$BASELINE_BIN" "$BASELINE_CLIENT_BIN" "$scene" "$n" \
               $([ "$link" = loopback ] || echo "$link")
         fi
       done
     done
   done
+ done
 done
 /usr/bin/python3 "$here/capacity_table.py" "$out" | tee "$out/capacity.md"
 echo "raw outputs: $out/runs, per-run figures: $out/capacity.csv" >&2

@@ -21,6 +21,8 @@ than 1000 UDP datagrams/s in the 1 s sampled before or after it, with
 nothing of the benchmark running.
 The ddsperf row: medians of the per-second 50 % and 99 % figures, the
 largest per-second max; its UDP column is datagrams per round trip.
+Runs with the deadband coding (capacity.sh's CODINGS) say so in the server
+column ("current, deadband coding"); the others send every pose and model.
 Runs across the network lab (capacity.sh's LINKS) name their link in the
 server column ("current @ delay_ms=5"); their UDP figures are the server's and
 the clients' namespaces together, and a line under the table gives each lab
@@ -182,6 +184,8 @@ def emulator(run_dir):
 def run_row(run_dir):
     env = read_env(f"{run_dir}/run.env")
     row = {k: env.get(k, "") for k in ("mode", "server", "scene", "n")}
+    if env.get("coding", "every") != "every":
+        row["server"] += f", {env['coding']} coding"
     row["server"] += link_label(env)
     row["emulator"] = emulator(run_dir)
     row["failure"] = env.get("failure", "")

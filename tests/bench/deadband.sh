@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Perceptual deadband coding, side by side with the every-tick stream (not
 # in CI; ~1 min). For every SCENE, the same scripted motion twice on
-# loopback: a server and bridge sending a model and a pose every tick, then
-# a server with --model-deadband and a bridge with --pose-deadband-mm.
+# loopback: a server and bridge sending a model and a pose every tick
+# (--model-deadband 0, --pose-deadband-mm 0), then with the deadbands below
+# (the shipped defaults).
 # Server on core 0, bridge on core 1. deadband_table.py prints packet
 # shares and the force agreement.
 #
@@ -51,7 +52,7 @@ run() {  # SCENE NAME SERVER_FLAGS BRIDGE_FLAGS
 }
 
 for scene in $SCENES; do
-  run "$scene" every "" ""
+  run "$scene" every "--model-deadband 0" "--pose-deadband-mm 0"
   run "$scene" deadband "$SERVER_DEADBAND" "$BRIDGE_DEADBAND"
 done
 /usr/bin/python3 "$here/deadband_table.py" "$out/runs" | tee "$out/deadband.md"

@@ -9,7 +9,9 @@
 # deploy/make-dds-config.sh writes (unicast peers), gRPC on the lab address.
 # transparency_table.py compares, tick by tick, the force the bridge
 # rendered with the force the physics computed for the same pose (the trace's
-# phys_* columns: the model that echoes the pose, evaluated at it) and
+# phys_* columns: the model that echoes the pose, evaluated at it: so every
+# pose and every model is sent here, --pose-deadband-mm 0 and
+# --model-deadband 0; the deadband coding is measured by tests/loop) and
 # prints the table.
 #
 #   tests/bench/offloopback.sh [BIN_DIR] [OUT_DIR]
@@ -61,7 +63,8 @@ run_one() {  # NAME LINK SCENE ROUND_TRIP_S
   mkdir -p "$dir"
   "$netlab" up "$lab" --seconds 300 --owner $$ --realtime server "trainee${link:+=$link}" "viewer${link:+=$link}"
   "$netlab" exec "$lab" server taskset -c 0 "$bin/hapsim-server" --listen 10.77.0.1:50051 --workers 1 \
-      --sessions "s:$scene" --dds-config "$out/dds.xml" --log-level warn >"$dir/server.out" 2>"$dir/server.log" &
+      --sessions "s:$scene" --dds-config "$out/dds.xml" --log-level warn --model-deadband 0 \
+      >"$dir/server.out" 2>"$dir/server.log" &
   server_pid=$!
   sleep 1.5
   local flags
@@ -72,7 +75,7 @@ run_one() {  # NAME LINK SCENE ROUND_TRIP_S
   viewer_pid=$!
   # shellcheck disable=SC2086
   "$netlab" exec "$lab" trainee taskset -c 1 timeout 120 "$bin/hapsim-bridge" --session s --dds-config "$out/dds.xml" \
-      $flags --trace "$dir/trace.csv" >"$dir/bridge.out" 2>"$dir/bridge.log" || echo "bridge exit $? ($name $scene)" >&2
+      --pose-deadband-mm 0 $flags --trace "$dir/trace.csv" >"$dir/bridge.out" 2>"$dir/bridge.log" || echo "bridge exit $? ($name $scene)" >&2
   wait "$viewer_pid" 2>/dev/null || echo "viewer exit ($name $scene)" >&2
   kill -TERM "$server_pid" 2>/dev/null || true
   wait "$server_pid" 2>/dev/null || true

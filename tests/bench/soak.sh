@@ -16,13 +16,14 @@ domain=$((150 + RANDOM % 60))
 pids=()
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
+# Every pose and every model (the runtime's worst case; the shipped deadband coding sends ~5 %).
 taskset -c 0 "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --dds-domain "$domain" --max-sessions 64 \
-    >server.out 2>server.log &
+    --model-deadband 0 >server.out 2>server.log &
 server=$!; pids+=("$server")
 for _ in $(seq 1 100); do [ -s port ] && break; sleep 0.1; done
 [ -s port ] || { echo "soak: the server did not start:" >&2; cat server.log >&2; exit 1; }
 addr=127.0.0.1:$(cat port)
-taskset -c 1 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" --create tissue_block --devices "$sessions" \
+taskset -c 1 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" --pose-deadband-mm 0 --create tissue_block --devices "$sessions" \
     --seconds "$seconds" --json load.json --interval-s 60 --intervals-csv intervals.csv >load.out 2>load.err &
 load=$!; pids+=("$load")
 sleep 3  # sessions created and streaming

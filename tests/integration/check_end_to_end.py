@@ -26,7 +26,8 @@ m = re.search(r"force models received (\d+) \(echoed pose seq (\d+) -> (\d+), re
 check(m is not None, "bridge reports force models")
 if m:
     received, first, last, regressions = map(int, m.groups())
-    check(received > 1000, f"bridge received > 1000 force models in ~3 s (got {received})")
+    # The shipped deadband coding: a model when the force would feel different, else a keep-alive (40/s).
+    check(received > 100, f"bridge received > 100 force models in ~3 s (got {received})")
     check(last > first + 1000, f"echoed pose seq advances ({first} -> {last})")
     check(regressions == 0, f"echoed pose seq never goes back (regressions {regressions})")
 

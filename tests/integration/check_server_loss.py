@@ -14,8 +14,9 @@ work = sys.argv[1]
 rows = list(csv.DictReader(open(f"{work}/trace.csv")))
 force = lambda r: (float(r["fx_N"]) ** 2 + float(r["fy_N"]) ** 2 + float(r["fz_N"]) ** 2) ** 0.5
 age_s = lambda r: float(r["model_age_ms"]) * 1e-3
-alive = [r for r in rows if 0.0 <= age_s(r) < 0.001]
-check(len(alive) > 500, f"the server answered for a while before dying ({len(alive)} fresh ticks)")
+# At least the keep-alives of its deadband coding (25 ms) for the ~1 s it lived.
+alive = [r for r in rows if r["model_taken"] == "1"]
+check(len(alive) > 20, f"the server answered for a while before dying ({len(alive)} models taken)")
 # The ticks after the last model are those that echo its pose seq. When it
 # arrived, on the trace clock, is t - age on each of them (two clock reads
 # a few microseconds apart in one tick; a busy machine can delay the tick

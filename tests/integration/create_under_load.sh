@@ -37,7 +37,7 @@ cleanup() { for p in "${pids[@]}"; do kill -KILL -- "-$p" "$p" 2>/dev/null || tr
 devices=${DEVICES:-24}
 client_prefix=()
 if taskset -c 1 true 2>/dev/null; then server_prefix=(taskset -c 0); client_prefix=(taskset -c 1); fi
-start_server "" --max-sessions 64
+start_server "" --max-sessions 64 "${every_tick_server[@]}"
 # The control calls at nice 10: a hapsim-ctl starting on the client core
 # must not preempt the measured devices' servo and receive threads.
 ctl=("${client_prefix[@]}" nice -n 10 timeout 40 "$bin/hapsim-ctl" --server "$addr" --timeout-s 30)
@@ -51,7 +51,7 @@ acupuncture_worst=(--param shf_lmax=16 --param shf_samples=3000 --param patch_gr
 
 echo "load_start $(now)" >times.txt
 echo "devices $devices" >>times.txt
-"${client_prefix[@]}" timeout 90 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" --create tissue_block \
+"${client_prefix[@]}" timeout 90 "$bin/hapsim-load" --server "$addr" --dds-domain "$domain" "${every_tick_client[@]}" --create tissue_block \
     --devices "$devices" --seconds 60 --json load.json --csv load.csv --interval-s 0.1 --intervals-csv intervals.csv \
     >load.out 2>load.err &
 load=$!; pids+=("$load")

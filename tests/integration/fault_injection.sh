@@ -22,9 +22,9 @@ echo "fault injection seed $seed (FAULT_SEED=$seed reproduces the moments)"
 # starve fb's bridge of CPU, which would age its models on the client side.
 client_prefix=(); fb_prefix=()
 if taskset -c 1 true 2>/dev/null; then server_prefix=(taskset -c 0); client_prefix=(taskset -c 1); fb_prefix=(taskset -c 0); fi
-start_server "fa:tissue_block,fb:tissue_block"
+start_server "fa:tissue_block,fb:tissue_block" "${every_tick_server[@]}"
 ctl=("${client_prefix[@]}" timeout 20 "$bin/hapsim-ctl" --server "$addr" --timeout-s 10)
-press=(--script insertion --start-height-mm 2 --depth-mm 3 --speed-mm-s 20 --hold-s 120 --dds-domain "$domain")
+press=("${every_tick_client[@]}" --script insertion --start-height-mm 2 --depth-mm 3 --speed-mm-s 20 --hold-s 120 --dds-domain "$domain")
 failures=0
 fail() { echo "FAIL $*"; failures=$((failures + 1)); }
 healthy() {  # after an event: the server answers and lists both sessions

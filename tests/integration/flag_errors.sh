@@ -150,6 +150,7 @@ expect 2 "--pose-extrapolation-ms must be within \[0, --pose-timeout-ms\]" "$bin
     --pose-extrapolation-ms 1000
 expect 2 "--pose-deadband-mm must be within \[0, 10\]" "$bin/hapsim-bridge" --pose-deadband-mm 20
 expect 2 "--pose-keepalive-ms must be within (0, 200\]" "$bin/hapsim-bridge" --pose-keepalive-ms 0
+expect 2 "--pose-deadband-mm must be within \[0, 10\]" "$bin/hapsim-load" --pose-deadband-mm 20
 # The network lab's link emulator and DDS config generator: named, before any device opens.
 expect 2 "at least two --host are needed" "$bin/hapsim-linkem" --host a,10.77.0.1
 expect 2 "--host b: unknown link key 'delay' (known: delay_ms," "$bin/hapsim-linkem" --host a,10.77.0.1 \

@@ -25,6 +25,14 @@ server_prefix=()  # e.g. (taskset -c 0): what start_server runs the server under
 cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
 trap cleanup EXIT
 
+# The deadband coding (on by default) sends a pose or a model only when the
+# force would feel different, plus keep-alives. Tests of the runtime's
+# per-tick delivery and timing (model ages, counts, routing under load)
+# ask for every pose and every model with these; tests/loop measures the
+# deadband itself, and the end-to-end and safety tests run the defaults.
+every_tick_server=(--model-deadband 0)
+every_tick_client=(--pose-deadband-mm 0)
+
 start_server() {
   local sessions=$1; shift
   rm -f port

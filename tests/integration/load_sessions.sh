@@ -11,8 +11,8 @@
 # Bounded: every run has a time limit; nothing leaves 127.0.0.1.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-start_server "" --pose-timeout-ms 250
-load=("$bin/hapsim-load" --server "$addr" --dds-domain "$domain")
+start_server "" --pose-timeout-ms 250 "${every_tick_server[@]}"
+load=("$bin/hapsim-load" --server "$addr" --dds-domain "$domain" "${every_tick_client[@]}")
 ctl=("$bin/hapsim-ctl" --server "$addr")
 # run NAME COMMAND...: stdout to NAME.out, stderr to NAME.err, exit code to NAME.rc
 run() { local name=$1 code=0; shift; "$@" >"$name.out" 2>"$name.err" || code=$?; echo "$code" >"$name.rc"; }

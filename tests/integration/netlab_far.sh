@@ -19,16 +19,16 @@ lab_up far --seconds 90 --realtime server far=delay_ms=50 lost=delay_ms=1
 now_ms() { echo $(( $(date +%s%N) / 1000000 )); }
 
 on_bg server "$bin/hapsim-server" --listen 10.77.0.1:50051 --sessions far:tissue_block,lost:tissue_block \
-    --dds-config dds.xml >server.out 2>server.log
+    --dds-config dds.xml "${every_tick_server[@]}" >server.out 2>server.log
 server=$!; pids+=("$server")
 sleep 1.5
-on_bg far "$bin/hapsim-bridge" --session far --dds-config dds.xml --script insertion --depth-mm 5 \
+on_bg far "$bin/hapsim-bridge" --session far --dds-config dds.xml "${every_tick_client[@]}" --script insertion --depth-mm 5 \
     --speed-mm-s 10 --hold-s 0.5 --start-height-mm 10 --seconds 6 --keep-running >far.out 2>far.log
 far=$!; pids+=("$far")
 on_bg far "$bin/hapsim-viewer" --headless --server 10.77.0.1:50051 --session far --seconds 6 \
     >viewer.out 2>viewer.log
 viewer=$!; pids+=("$viewer")
-on_bg lost "$bin/hapsim-bridge" --session lost --dds-config dds.xml --script insertion --depth-mm 3 \
+on_bg lost "$bin/hapsim-bridge" --session lost --dds-config dds.xml "${every_tick_client[@]}" --script insertion --depth-mm 3 \
     --speed-mm-s 10 --hold-s 30 --start-height-mm 2 --seconds 60 >lost.out 2>lost.log
 lost=$!; pids+=("$lost")
 sleep 3

@@ -9,10 +9,10 @@
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$1" "$2"
 fake_hd=${3:?usage: $0 BIN_DIR WORK_DIR FAKE_LIBHD}
-start_server "t1:tissue_block"
+start_server "t1:tissue_block" "${every_tick_server[@]}"
 bridge() {  # bridge NAME [fake fault]
   HAPSIM_FAKE_HD_SCRIPT=press HAPSIM_FAKE_HD_LOG="$work/$1.fake.csv" HAPSIM_FAKE_HD_FAULT="${2:-}" \
-    "$bin/hapsim-bridge" --backend openhaptics --hd-library "$fake_hd" --session t1 --device-id 7 \
+    "$bin/hapsim-bridge" --backend openhaptics --hd-library "$fake_hd" --session t1 --device-id 7 "${every_tick_client[@]}" \
       --dds-domain "$domain" --seconds 3 --max-force-n 2.0 >"$1.out" 2>"$1.log" || echo "$?" >"$1.rc"
 }
 bridge pressed

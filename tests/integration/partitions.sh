@@ -7,10 +7,10 @@
 # for a session nobody serves is told so. check_partitions.py reads the output.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-start_server "room-a,room-b"
+start_server "room-a,room-b" "${every_tick_server[@]}"
 
 bridge() {  # bridge NAME SESSION DEVICE_ID SECONDS
-  "$bin/hapsim-bridge" --session "$2" --device-id "$3" --dds-domain "$domain" --script constant_speed \
+  "$bin/hapsim-bridge" --session "$2" --device-id "$3" --dds-domain "$domain" "${every_tick_client[@]}" --script constant_speed \
       --keep-running --seconds "$4" --trace "$1.csv" >"$1.out" 2>"$1.log" &
   pids+=("$!")
 }

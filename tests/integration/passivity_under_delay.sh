@@ -9,15 +9,15 @@
 # table and checks it.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-start_server "t1:tissue_block,t2:acupuncture,t3:cutting"
+start_server "t1:tissue_block,t2:acupuncture,t3:cutting" "${every_tick_server[@]}"
 for delay in 0 50 100 200; do
-  "$bin/hapsim-bridge" --device t1 --device t2 --device t3 --device-id 11 --dds-domain "$domain" \
+  "$bin/hapsim-bridge" --device t1 --device t2 --device t3 --device-id 11 --dds-domain "$domain" "${every_tick_client[@]}" \
       --script insertion --depth-mm 8 --speed-mm-s 20 --hold-s 0.5 --seconds 2.5 --keep-running \
       --model-delay-ms "$delay" >"delay_$delay.out" 2>"delay_$delay.log"
 done
 # The needle with every model 1000 ms late, two insertion cycles (approach 2 mm, press 12 mm through
 # skin and fat, hold 0.5 s, withdraw: 3.3 s each), traced: the work the rendering did on the hand.
-"$bin/hapsim-bridge" --session t2 --device-id 21 --dds-domain "$domain" --script insertion --depth-mm 12 \
+"$bin/hapsim-bridge" --session t2 --device-id 21 --dds-domain "$domain" "${every_tick_client[@]}" --script insertion --depth-mm 12 \
     --speed-mm-s 10 --hold-s 0.5 --start-height-mm 2 --seconds 6.7 --keep-running --model-delay-ms 1000 \
     --trace needle_1000.csv >needle_1000.out 2>needle_1000.log
 stop_process server_rc "$server"

@@ -5,8 +5,8 @@
 # its own device. check_two_devices.py reads the outputs.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
-start_server "t1:tissue_block,t2:tissue_block"
-"$bin/hapsim-bridge" --device t1 --device t2 --device-id 5 --dds-domain "$domain" --script insertion \
+start_server "t1:tissue_block,t2:tissue_block" "${every_tick_server[@]}"
+"$bin/hapsim-bridge" --device t1 --device t2 --device-id 5 --dds-domain "$domain" "${every_tick_client[@]}" --script insertion \
     --depth-mm 5 --seconds 2 >bridge.out 2>bridge.log
 stop_process server_rc "$server"
 pids=()

@@ -73,7 +73,8 @@ HapticLoopRun RunHapticLoop(const HapticLoopConfig& config) {
     session.RunTick(now_ns, now_ns);
     while (!models.empty() && models.front().due_ns <= now_ns) {
       const service::ForceModelMessage& m = models.front().message;
-      inbox.Publish({m.model, m.seq, m.echo_pose_seq, /*server_instance=*/1, now_ns});
+      inbox.Publish(
+          {m.model, m.seq, m.echo_pose_seq, /*server_instance=*/1, now_ns, m.echo_pose_held_ns, m.next_model_within_s});
       ++run.models_received;
       models.pop_front();
     }

@@ -75,8 +75,8 @@ std::vector<DelayedPress> AllPresses() {
   return all;
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, PassivityUnderDelay, ::testing::ValuesIn(AllPresses()), [](const auto& info) {
-  return info.param.scene + "_" + std::to_string(2 * info.param.one_way_ms) + "ms";
+INSTANTIATE_TEST_SUITE_P(Scenes, PassivityUnderDelay, ::testing::ValuesIn(AllPresses()), [](const auto& test_info) {
+  return test_info.param.scene + "_" + std::to_string(2 * test_info.param.one_way_ms) + "ms";
 });
 
 }  // namespace

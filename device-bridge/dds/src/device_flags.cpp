@@ -61,6 +61,30 @@ SafetyConfig SafetyFlags::ToConfig() const {
   return c;
 }
 
+PoseDeadbandConfig PoseDeadbandFlags::ToConfig() const {
+  const std::string out_of_range = common::FirstFlagOutOfRange({
+      {position_mm >= 0.0 && position_mm <= 10.0, "--pose-deadband-mm", "[0, 10]"},
+      {velocity_mm_s > 0.0 && velocity_mm_s <= 1000.0, "--pose-deadband-velocity-mm-s", "(0, 1000]"},
+      {keepalive_ms > 0.0 && keepalive_ms <= 200.0, "--pose-keepalive-ms", "(0, 200]"},
+  });
+  if (!out_of_range.empty()) throw std::invalid_argument(out_of_range);
+  PoseDeadbandConfig c;
+  c.position_m = position_mm * 1e-3;
+  c.velocity_m_per_s = velocity_mm_s * 1e-3;
+  c.keepalive_s = keepalive_ms * 1e-3;
+  return c;
+}
+
+void AddPoseDeadbandFlags(common::Flags& flags, PoseDeadbandFlags* d) {
+  flags.Add(
+      "pose-deadband-mm", &d->position_mm,
+      "send a pose only when it is this far from where the server extrapolates the last one sent\n"
+      "(or its velocity changed, its buttons changed, or a keep-alive is due; docs/deploy.md). 0: every tick [mm]");
+  flags.Add("pose-deadband-velocity-mm-s", &d->velocity_mm_s,
+            "with --pose-deadband-mm: a velocity change that sends a pose [mm/s]");
+  flags.Add("pose-keepalive-ms", &d->keepalive_ms, "with --pose-deadband-mm: a pose goes out at least this often [ms]");
+}
+
 void AddSafetyFlags(common::Flags& flags, SafetyFlags* s) {
   flags.Add("max-force-n", &s->max_force_N, "force clamp [N] (Phantom Omni peak: 3.3 N)");
   flags.Add("max-force-rise-n-per-s", &s->max_rise_N_per_s, "largest rise of the force magnitude [N/s]");

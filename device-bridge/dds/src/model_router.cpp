@@ -68,6 +68,8 @@ ReceivedModel ToReceivedModel(const hapsim_dds_LocalForceModel& model, std::int6
   r.echo_pose_seq = model.echo_pose_seq;
   r.server_instance = model.server_instance;
   r.received_ns = received_ns;
+  r.echo_pose_held_ns = static_cast<std::int64_t>(model.echo_pose_held_us) * 1000;
+  r.next_model_within_s = model.next_model_within_ms * 1e-3;
   return r;
 }
 

@@ -48,6 +48,7 @@ LoadRunner::LoadRunner(const std::vector<LoadDevicePlan>& plan, const LoadRunCon
   ChannelConfig c;
   c.period_s = 1.0 / config_.rate_hz;
   c.safety = config_.safety;
+  c.pose_deadband = config_.pose_deadband;
   c.stats_window = StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, plan_.size());
   devices_.reserve(plan_.size());
   channels_.reserve(plan_.size());
@@ -61,10 +62,12 @@ LoadRunner::LoadRunner(const std::vector<LoadDevicePlan>& plan, const LoadRunCon
 void LoadRunner::StepDevice(std::size_t i, double t_s) {
   ServoChannel& channel = channels_[i];
   channel.Sense(t_s + plan_[i].phase_s);
-  if (write_pose_(channel.pose())) {
-    ++poses_sent_[i];
-  } else {
-    ++write_failures_[i];
+  if (channel.pose_due()) {  // else held back by the pose deadband
+    if (write_pose_(channel.pose())) {
+      ++poses_sent_[i];
+    } else {
+      ++write_failures_[i];
+    }
   }
   const ChannelTick& tick = channel.Actuate(router_->inbox(i));
   if (tick.round_trip_s >= 0.0) {

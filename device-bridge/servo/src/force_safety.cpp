@@ -73,7 +73,7 @@ void ForceSafety::CountEscalation(WatchdogState next) {
 // stage's force. The states come first: the watchdog's and the arm
 // button's decide the ramp-in of stage 4 and what stage 5 sees.
 Eigen::Vector3d ForceSafety::Apply(const SafetyInput& in) {
-  const double watchdog = WatchdogScale(in.model_age_s, in.physics_age_s);
+  const double watchdog = WatchdogScale(in.model_age_s, in.model_gap_allowance_s, in.physics_age_s);
   if (arming_.Update(in.buttons, Passes(state_), in.dt_s)) ++counters_.arm_toggles;
   const double pass_on = arming_.armed() ? watchdog : 0.0;
   const Eigen::Vector3d& v = in.velocity_W_m_per_s;
@@ -161,13 +161,17 @@ AgeVerdict JudgeAge(double age_s, double warn_s, double fade_start_s, double dis
 }
 }  // namespace
 
-double ForceSafety::WatchdogScale(double age_s, double physics_age_s) {
+double ForceSafety::WatchdogScale(double age_s, double gap_allowance_s, double physics_age_s) {
   if (age_s < 0.0) {
     CountEscalation(WatchdogState::kNoModel);
     state_ = WatchdogState::kNoModel;
     return 0.0;
   }
-  const AgeVerdict gap = JudgeAge(age_s, config_.warn_age_s, config_.fade_start_age_s, config_.disarm_age_s);
+  // A promised gap moves the warning and the fade's start, never the zero.
+  const double allowance_s = std::max(0.0, gap_allowance_s);  // NaN: none
+  const double fade_start_s = std::min(config_.fade_start_age_s + allowance_s, config_.disarm_age_s);
+  const double warn_s = std::min(config_.warn_age_s + allowance_s, fade_start_s);
+  const AgeVerdict gap = JudgeAge(age_s, warn_s, fade_start_s, config_.disarm_age_s);
   AgeVerdict physics{WatchdogState::kFresh, 1.0};
   if (physics_age_s >= 0.0) {
     physics =

@@ -79,14 +79,15 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   if (have_model_ && incoming.server_instance == model_.server_instance && incoming.seq > model_.seq + 1)
     counters_.models_unused += incoming.seq - model_.seq - 1;
   model_ = incoming;
-  // Later models for the same pose answer it too (their physics is as old).
+  // Later models for the same pose answer it too: their physics is of the
+  // stylus as long after that pose as the server held (extrapolated) it.
   physics_known_ = echo_known;
-  if (physics_known_) physics_sensed_ns_ = sent_ns_[echo_slot];
+  if (physics_known_) physics_sensed_ns_ = sent_ns_[echo_slot] + model_.echo_pose_held_ns;
   if (counters_.models_taken == 0) counters_.first_echo_seq = echo;
   counters_.last_echo_seq = echo;
   ++counters_.models_taken;
   if (echo_remembered) {
-    tick_.round_trip_s = static_cast<double>(model_.received_ns - sent_ns_[echo_slot]) * 1e-9;
+    tick_.round_trip_s = static_cast<double>(model_.received_ns - physics_sensed_ns_) * 1e-9;
     round_trip_s_.Record(tick_.round_trip_s);
   }
   have_model_ = true;
@@ -101,10 +102,18 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   tick_.model_age_s =
       have_model_ ? std::max(0.0, static_cast<double>(sensed_ns_ - model_.received_ns) * 1e-9) : -1.0;
   if (have_model_) model_age_s_.Record(tick_.model_age_s);
+  // Within the gap the server promised (its deadband's keep-alive), a held
+  // model is one the server still finds right for where the tool is: the
+  // stream is not late, and its physics is as old as when it arrived.
+  tick_.model_overdue_s = -1.0;
   tick_.physics_age_s = -1.0;
   if (have_model_) {
-    tick_.physics_age_s = physics_known_ ? std::max(0.0, static_cast<double>(sensed_ns_ - physics_sensed_ns_) * 1e-9)
-                                         : std::numeric_limits<double>::infinity();
+    const double promised_s = std::min(model_.next_model_within_s, kLongestPromisedGapS);
+    tick_.model_overdue_s = std::max(0.0, tick_.model_age_s - promised_s);
+    tick_.physics_age_s =
+        physics_known_
+            ? std::max(0.0, static_cast<double>(model_.received_ns - physics_sensed_ns_) * 1e-9) + tick_.model_overdue_s
+            : std::numeric_limits<double>::infinity();
     if (physics_known_) physics_age_s_.Record(tick_.physics_age_s);
   }
 
@@ -119,6 +128,7 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   in.velocity_W_m_per_s = r.velocity_W_m_per_s;
   in.buttons = r.buttons;
   in.model_age_s = tick_.model_age_s;
+  in.model_gap_allowance_s = have_model_ ? std::min(model_.next_model_within_s, kLongestPromisedGapS) : 0.0;
   in.physics_age_s = tick_.physics_age_s;
   in.dt_s = period_s_;
   tick_.force_W_N = safety_.Apply(in);

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdint>
 #include <random>
 
 #include "hapsim/common/clock.h"
@@ -22,6 +24,10 @@ void Pack(const ForceModelMessage& in, hapsim_dds_LocalForceModel& out) {
   out.seq = in.seq;
   out.echo_pose_seq = in.echo_pose_seq;
   out.t_server_ns = in.t_server_ns;
+  out.echo_pose_held_us =
+      static_cast<std::uint32_t>(std::clamp<std::int64_t>(in.echo_pose_held_ns / 1000, 0, UINT32_MAX));
+  out.next_model_within_ms =
+      static_cast<std::uint32_t>(std::clamp(std::lround(in.next_model_within_s * 1e3), 0L, 60'000L));
   wire::PackForceModel(in.model, in.tool_force_W_N, &out);
 }
 

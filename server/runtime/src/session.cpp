@@ -115,6 +115,7 @@ TickInput Session::AssembleInput(std::int64_t now_ns) {
       counters_.tick.poses_unused.fetch_add(pose.seq - last_pose_.seq - 1, std::memory_order_relaxed);
     last_pose_ = pose;
     have_pose_ = true;
+    pose_taken_ns_ = now_ns;
     in.fresh_pose = true;
   }
   in.tool = last_pose_.tool;
@@ -177,6 +178,8 @@ void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel
   m.device_id = in.device_id;
   m.seq = force_seq_++;
   m.echo_pose_seq = in.pose_seq;
+  m.echo_pose_held_ns = in.fresh_pose ? 0 : now_ns - pose_taken_ns_;
+  m.next_model_within_s = config_.model_deadband.jnd > 0.0 ? config_.model_deadband.keepalive_s : 0.0;
   m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).

@@ -142,3 +142,21 @@ TEST(ReceivedModelTest, AnUnknownContactStateIsReadAsFree) {
 
 }  // namespace
 }  // namespace hapsim::bridge
+
+namespace hapsim::bridge {
+namespace {
+
+// The header's deadband fields, in the units of the wire (µs, ms), arrive
+// in the channel's (ns, s).
+TEST(ReceivedModelTest, TheHeldTimeAndThePromisedGapArriveInNanosecondsAndSeconds) {
+  hapsim_dds_LocalForceModel message{};
+  message.echo_pose_held_us = 12'345;
+  message.next_model_within_ms = 25;
+  const ReceivedModel model = ToReceivedModel(message, 7);
+  EXPECT_EQ(model.echo_pose_held_ns, 12'345'000);
+  EXPECT_DOUBLE_EQ(model.next_model_within_s, 0.025);
+  EXPECT_EQ(model.received_ns, 7);
+}
+
+}  // namespace
+}  // namespace hapsim::bridge

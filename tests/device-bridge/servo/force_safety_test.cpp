@@ -59,6 +59,31 @@ TEST(ForceSafety, WatchdogWarnsThenFadesLinearlyThenDisarms) {
   EXPECT_EQ(s.counters().disarms, 1u);
 }
 
+// A server that promised a model at least every 25 ms (deadband
+// keep-alives): the warning comes at 45 ms and the fade starts at 75 ms, but
+// the force is still zero and disarmed at 100 ms — a promise never delays
+// the zero.
+TEST(ForceSafety, APromisedGapMovesTheWarningAndTheFadeButNeverTheZero) {
+  auto s = NoRiseLimit();
+  const auto at = [&](double gap_s) {
+    SafetyInput in;
+    in.requested_W_N = Eigen::Vector3d(0, 0, 1.0);
+    in.model_age_s = gap_s;
+    in.model_gap_allowance_s = 0.025;
+    in.dt_s = kDt;
+    return s.Apply(in).z();
+  };
+  EXPECT_NEAR(at(0.044), 1.0, 1e-12);
+  EXPECT_EQ(s.state(), WatchdogState::kFresh);
+  EXPECT_NEAR(at(0.046), 1.0, 1e-12);
+  EXPECT_EQ(s.state(), WatchdogState::kWarn);
+  EXPECT_NEAR(at(0.080), 0.8, 1e-12);  // (100 - 80) / (100 - 75)
+  EXPECT_EQ(s.state(), WatchdogState::kFading);
+  EXPECT_EQ(at(0.100), 0.0);
+  EXPECT_EQ(s.state(), WatchdogState::kDisarmed);
+  EXPECT_EQ(s.counters().warnings, 1u);
+}
+
 // Watchdog events after one tick per model age, each asking for 1 N.
 SafetyCounters EventsAfterAges(std::initializer_list<double> ages_s) {
   auto s = NoRiseLimit();

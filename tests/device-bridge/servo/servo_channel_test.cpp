@@ -160,6 +160,65 @@ TEST_F(ServoChannelTest, AStaleModelRaisesWarningFadeAndDisarmOnceEachAndEndsAtZ
   EXPECT_EQ(device_.last_force_W_N().norm(), 0.0);
 }
 
+// A server that held the pose 4 ms (extrapolating the tool) before the tick
+// that answered it: the round trip is the 3 ms left, and the model's physics
+// is of the stylus 4 ms after that pose (simulated clock).
+TEST_F(ServoChannelTest, TheTimeTheServerHeldThePoseIsNotPartOfTheRoundTrip) {
+  const std::int64_t t0 = 1'000'000'000;
+  channel_.Sense(0.0, t0);
+  channel_.Actuate(inbox_);
+  ReceivedModel model = ContactModel(0, t0 + 7 * kMsNs);
+  model.echo_pose_held_ns = 4 * kMsNs;
+  channel_.Sense(0.007, t0 + 7 * kMsNs);
+  inbox_.Publish(model);
+  const ChannelTick& tick = channel_.Actuate(inbox_);
+  EXPECT_NEAR(tick.round_trip_s, 0.003, 1e-12);
+  EXPECT_NEAR(tick.physics_age_s, 0.003, 1e-12);
+}
+
+// Within the gap the server promised (a 25 ms keep-alive) a held model is
+// not late: the watchdog stays fresh at 24 ms and the physics age stays the
+// model's round trip; past the promise the stream ages from there (warning
+// 20 ms later, at a 45 ms gap, so the dead server is still caught).
+TEST_F(ServoChannelTest, AHeldModelIsNotLateWithinTheGapTheServerPromised) {
+  const std::int64_t t0 = 1'000'000'000;
+  channel_.Sense(0.0, t0);
+  channel_.Actuate(inbox_);
+  ReceivedModel model = ContactModel(0, t0 + 1 * kMsNs);
+  model.next_model_within_s = 0.025;
+  inbox_.Publish(model);
+  for (const int gap_ms : {0, 24, 44}) {
+    channel_.Sense(0.001 * (1 + gap_ms), t0 + (1 + gap_ms) * kMsNs);
+    const ChannelTick& t = channel_.Actuate(inbox_);
+    EXPECT_NEAR(t.model_age_s, gap_ms * 1e-3, 1e-12);
+    EXPECT_NEAR(t.model_overdue_s, std::max(0, gap_ms - 25) * 1e-3, 1e-12);
+    EXPECT_NEAR(t.physics_age_s, 0.001 + std::max(0, gap_ms - 25) * 1e-3, 1e-12);
+    EXPECT_EQ(channel_.watchdog(), WatchdogState::kFresh) << gap_ms << " ms";
+  }
+  channel_.Sense(0.046, t0 + 46 * kMsNs);
+  channel_.Actuate(inbox_);
+  EXPECT_EQ(channel_.watchdog(), WatchdogState::kWarn);
+  EXPECT_EQ(channel_.safety_counters().warnings, 1u);
+}
+
+// A server promising a long gap is believed for 100 ms at most: past that
+// the stream is late (a 250 ms gap under a 10 s promise is 150 ms overdue:
+// disarmed).
+TEST_F(ServoChannelTest, APromiseOfALongGapCountsForATenthOfASecondAtMost) {
+  const std::int64_t t0 = 1'000'000'000;
+  channel_.Sense(0.0, t0);
+  inbox_.Publish([&] {
+    ReceivedModel m = ContactModel(0, t0);
+    m.next_model_within_s = 10.0;
+    return m;
+  }());
+  channel_.Actuate(inbox_);
+  channel_.Sense(0.25, t0 + 250 * kMsNs);
+  const ChannelTick& t = channel_.Actuate(inbox_);
+  EXPECT_NEAR(t.model_overdue_s, 0.15, 1e-12);
+  EXPECT_EQ(channel_.watchdog(), WatchdogState::kDisarmed);
+}
+
 TEST_F(ServoChannelTest, AFreshContactModelPushesTheToolOutOfTheTissue) {
   channel_.Sense(0.0);
   inbox_.Publish(ContactModel(0, common::SteadyNowNs()));

@@ -276,6 +276,29 @@ TEST(SessionTick, WithAModelDeadbandAToolHeldStillGetsKeepAlivesOnly) {
   EXPECT_EQ(session.counters().tick.force_models_held.load() + session.counters().tick.force_models_sent.load(), 2000u);
   EXPECT_GT(models.last.model.stiffness_N_per_m, 0.0);
   EXPECT_EQ(models.last.model.state, core::ContactState::kContact);
+  EXPECT_DOUBLE_EQ(models.last.next_model_within_s, 0.025);  // the promise the device's watchdog allows for
+}
+
+// A model says how long the session had held the pose it answers (the
+// device then knows its physics is that much newer than the pose): 0 on the
+// tick the pose arrived for, then one period more each tick without a new
+// pose. Without a deadband it promises nothing (a model every tick).
+TEST(SessionTick, AModelSaysHowLongThePoseItAnswersWasHeld) {
+  CapturedModels models;
+  SessionConfig config;
+  config.id = "held";
+  Session session(config, core::MakeScene({"tissue_block", {}}), std::make_shared<CapturingPort>(&models));
+  session.OfferPose(PressingPose(5, 1, kT0Ns));
+  for (int k = 0; k <= 3; ++k) {
+    session.RunTick(kT0Ns + k * kPeriodNs, kT0Ns + k * kPeriodNs);
+    EXPECT_EQ(models.last.echo_pose_seq, 5u);
+    EXPECT_EQ(models.last.echo_pose_held_ns, k * kPeriodNs) << "tick " << k;
+    EXPECT_EQ(models.last.next_model_within_s, 0.0);
+  }
+  session.OfferPose(PressingPose(6, 1, kT0Ns + 4 * kPeriodNs));
+  session.RunTick(kT0Ns + 4 * kPeriodNs, kT0Ns + 4 * kPeriodNs);
+  EXPECT_EQ(models.last.echo_pose_seq, 6u);
+  EXPECT_EQ(models.last.echo_pose_held_ns, 0);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "hapsim/common/flags.h"
 #include "hapsim/dds/dds.h"
 #include "hapsim/servo/force_safety.h"
+#include "hapsim/servo/pose_deadband.h"
 
 namespace hapsim::bridge {
 
@@ -36,6 +37,13 @@ struct SafetyFlags {
   SafetyConfig ToConfig() const;  // throws std::invalid_argument when the limits are not ordered/positive
 };
 void AddSafetyFlags(common::Flags& flags, SafetyFlags* safety);
+
+// Which poses go out (PoseDeadband): every one unless --pose-deadband-mm.
+struct PoseDeadbandFlags {
+  double position_mm = 0.05, velocity_mm_s = 5.0, keepalive_ms = 25.0;
+  PoseDeadbandConfig ToConfig() const;  // throws std::invalid_argument naming a flag out of range
+};
+void AddPoseDeadbandFlags(common::Flags& flags, PoseDeadbandFlags* deadband);
 
 struct ProcessFlags {
   int dds_domain = 0;

@@ -26,6 +26,7 @@ struct LoadRunConfig {
   double run_seconds = 0.0;  // 0: until stop is set
   double interval_s = 0.0;   // > 0: also report percentiles per interval of this length
   SafetyConfig safety;
+  PoseDeadbandConfig pose_deadband;  // which poses each device sends (default: every one)
 };
 
 // Sends one pose to the server; false when refused (counted per device).

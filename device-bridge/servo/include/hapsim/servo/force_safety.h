@@ -83,6 +83,10 @@ struct SafetyInput {
   Eigen::Vector3d velocity_W_m_per_s = Eigen::Vector3d::Zero();  // the stylus's
   std::uint32_t buttons = 0;                                     // the stylus's buttons, bit per button
   double model_age_s = -1.0;    // stream gap: since the held model arrived; negative: none has
+  // The gap the server promised between models (its deadband keep-alive):
+  // the gap's warning and fade start that much later; zero and disarm stay
+  // at disarm_age_s, whatever the promise.
+  double model_gap_allowance_s = 0.0;
   double physics_age_s = -1.0;  // since the stylus was at the pose the held model answers (+inf: not one of ours);
                                 // negative: not known, the gap alone decides
   double dt_s = 0.001;                                           // servo period
@@ -121,7 +125,7 @@ class ForceSafety {
   void ControlPassivity(Eigen::Vector3d& f_W_N, const Eigen::Vector3d& v_W_m_per_s, double dt_s);
   void ClampMagnitude(Eigen::Vector3d& f_W_N);
   void Derate(Eigen::Vector3d& f_W_N, double pass_on, double dt_s);
-  double WatchdogScale(double model_age_s, double physics_age_s);
+  double WatchdogScale(double model_age_s, double gap_allowance_s, double physics_age_s);
   void LimitRise(Eigen::Vector3d& f_W_N, double dt_s);  // against last_W_N_
   void CountEscalation(WatchdogState next);
 

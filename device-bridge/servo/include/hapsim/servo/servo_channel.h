@@ -42,14 +42,21 @@ struct ChannelTick {
   Eigen::Vector3d blended_W_N = Eigen::Vector3d::Zero();    // handed to the chain: requested, or a model jump's blend
   Eigen::Vector3d force_W_N = Eigen::Vector3d::Zero();      // commanded (after safety)
   double model_age_s = -1.0;                                // stream gap: since the model used arrived; -1: none yet
-  // Since the stylus was at the pose the model used answers (the round trip
-  // plus the gap: how late the tissue is felt); -1: none yet, +inf: it
-  // answers no pose this channel remembers (another run's, or > 4 s old).
+  // The gap beyond the longest the server promised between models (its
+  // deadband keep-alive, at most kLongestPromisedGapS; 0 for a server that
+  // sends every tick): what the stream-gap watchdog judges.
+  double model_overdue_s = -1.0;
+  // How late the tissue is felt: the model's round trip (from when the
+  // stylus was where the server stepped it — the pose it answers, moved on
+  // by as long as the server held it) plus how overdue the stream is; -1:
+  // none yet, +inf: it answers no pose this channel remembers (another
+  // run's, or > 4 s old).
   double physics_age_s = -1.0;
   bool took_model = false;     // a new model arrived and was applied this tick
   // This tick's new model is the first to answer a remembered pose: the
-  // round trip from sensing that pose; else -1 (a later model for the same
-  // pose, sent while the device sends sparsely, is no round trip).
+  // round trip from sensing that pose, less the time the server held it
+  // before the tick that stepped it (a model sent later for the same pose,
+  // a keep-alive, comes from a tick that extrapolated it); else -1.
   double round_trip_s = -1.0;
   // When round_trip_s >= 0 and the config asks for it: the new model's force at the pose it echoes, as
   // the server sent it (before the device's caps). The model reproduces the
@@ -102,6 +109,10 @@ class ServoChannel {
   // True when it took a new model, with tick_.requested_W_N already its force at the stylus.
   bool TakeNewestModel(common::LatestValue<ReceivedModel>& inbox);
   void RecordPeaks();
+
+  // A server's promised gap between models counts for at most this long: a
+  // bad promise must not blind the watchdog.
+  static constexpr double kLongestPromisedGapS = 0.1;
 
   // Send time of each pose by seq; a model echoing a seq older than the ring
   // gets no round trip.

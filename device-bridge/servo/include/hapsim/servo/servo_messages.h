@@ -15,6 +15,13 @@ struct ReceivedModel {
   std::uint64_t echo_pose_seq = 0;    // seq of the pose the server stepped with
   std::uint64_t server_instance = 0;  // which server sent it
   std::int64_t received_ns = 0;       // this process's steady clock at arrival
+  // How long the server had held that pose when it stepped (it extrapolated
+  // the tool meanwhile): the model's physics is of the stylus this much
+  // after the pose was sensed.
+  std::int64_t echo_pose_held_ns = 0;
+  // The server's promise: the next model comes within this (its model
+  // keep-alive under deadband coding; 0: every tick).
+  double next_model_within_s = 0.0;
 };
 
 // A pose as one servo tick sensed it, for the DDS side to send.

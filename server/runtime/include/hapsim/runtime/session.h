@@ -145,6 +145,7 @@ class Session : public TickTask {
   // Tick state (one worker at a time; the pool orders successive ticks).
   PoseSample last_pose_;
   bool have_pose_ = false;
+  std::int64_t pose_taken_ns_ = 0;  // the tick that took last_pose_ fresh
   std::uint64_t tick_index_ = 0;
   std::uint64_t force_seq_ = 0;
   std::uint64_t snapshot_id_ = 0;

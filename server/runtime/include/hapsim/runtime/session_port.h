@@ -22,6 +22,10 @@ struct ForceModelMessage {
   std::uint64_t seq = 0;            // per session, +1 each model sent
   std::uint64_t echo_pose_seq = 0;  // seq of the pose this tick stepped with (round trip)
   std::int64_t t_server_ns = 0;     // server steady clock when the tick wrote it
+  // How long the session had held that pose when this tick stepped (0: it
+  // arrived for this tick; since then the tool was extrapolated from it).
+  std::int64_t echo_pose_held_ns = 0;
+  double next_model_within_s = 0.0;  // the longest the session leaves between models (0: every tick)
   core::LocalForceModel model;      // what the bridge renders until the next one
   Eigen::Vector3d tool_force_W_N = Eigen::Vector3d::Zero();  // the physics' own force at this tick [N]
 };
