@@ -77,6 +77,21 @@ malformed = int(re.search(r"malformed (\d+)", v).group(1))
 mismatches = int(re.search(r"topology mismatches (\d+)", v).group(1))
 check(frames >= 240, f"far viewer: >= 40 frames/s over 6 s with 1 % loss ({frames} frames)")
 check(malformed == 0 and mismatches == 0, f"far viewer: in sync (malformed {malformed}, mismatches {mismatches})")
+# The cut trainee's viewer: the link is gone for 2 s of its 10; TCP holds
+# the stream, the server coalesces what it could not send, and the viewer
+# streams again to its end, in sync.
+cv = read_text(work, "cut_viewer.out")
+cut_viewer_rc = int(read_text(work, "cut_viewer.rc"))
+cv_frames = int(re.search(r"frames (\d+)", cv).group(1))
+cv_sim = re.search(r"sim time ([\d.]+) s \(first frame at ([\d.]+) s\)", cv)
+cv_span = float(cv_sim.group(1)) - float(cv_sim.group(2)) if cv_sim else 0.0
+check(cut_viewer_rc == 0, f"cut viewer: ran to its end through the 2 s cut (exit {cut_viewer_rc})")
+check(cv_span >= 9.0, f"cut viewer: frames to the end, after the cut (sim time span {cv_span:.2f} s of 10 s)")
+check(cv_frames >= 300, f"cut viewer: >= 300 frames in 10 s with 2 s of them cut ({cv_frames} frames)")
+cv_count = {k: int(re.search(rf"{k} (\d+)", cv).group(1))
+            for k in ("malformed", "topology mismatches", "gaps", "resubscribes")}
+check(cv_count["malformed"] == 0 and cv_count["topology mismatches"] == 0,
+      f"cut viewer: in sync after the cut ({cv_count})")
 intruder = int(read_text(work, "intruder.rc"))
 intruder_log = read_text(work, "intruder.log")
 check(intruder != 0 and "may not view 't1'" in intruder_log,
