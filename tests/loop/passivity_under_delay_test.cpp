@@ -53,16 +53,27 @@ class PassivityUnderDelay : public ::testing::TestWithParam<DelayedPress> {};
 
 TEST_P(PassivityUnderDelay, NoTickGivesTheHandEnergyItNeverPutIn) {
   const HapticLoopRun run = RunHapticLoop(PressOf(GetParam()));
-  double lowest_J = 0.0, peak_N = 0.0;
-  for (const LoopTick& t : run.ticks) {
+  double lowest_J = 0.0, peak_N = 0.0, largest_step_N = 0.0;
+  for (std::size_t k = 0; k < run.ticks.size(); ++k) {
+    const LoopTick& t = run.ticks[k];
     lowest_J = std::min(lowest_J, t.passivity_energy_J);
     peak_N = std::max(peak_N, t.force_W_N.norm());
+    // The controller's own steps: the rendered force's change on a tick it
+    // acted, beyond the change of what the models asked for.
+    if (k > 0 && t.passivity_acted) {
+      const LoopTick& before = run.ticks[k - 1];
+      const double step_N = (t.force_W_N - before.force_W_N).norm();
+      const double asked_N = (t.requested_W_N - before.requested_W_N).norm();
+      largest_step_N = std::max(largest_step_N, step_N - asked_N);
+    }
   }
-  std::printf("%s, %d ms round trip: peak %.3f N, lowest E %.2e J, corrected %llu, bounded %llu, uncorrected %llu\n",
-              GetParam().scene.c_str(), 2 * GetParam().one_way_ms, peak_N, lowest_J,
-              static_cast<unsigned long long>(run.safety.passivity_corrected),
-              static_cast<unsigned long long>(run.safety.passivity_bounded),
-              static_cast<unsigned long long>(run.safety.passivity_uncorrected));
+  std::printf(
+      "%s, %d ms round trip: peak %.3f N, lowest E %.2e J, corrected %llu, bounded %llu, uncorrected %llu, "
+      "largest step of the controller %.1f %% of the peak\n",
+      GetParam().scene.c_str(), 2 * GetParam().one_way_ms, peak_N, lowest_J,
+      static_cast<unsigned long long>(run.safety.passivity_corrected),
+      static_cast<unsigned long long>(run.safety.passivity_bounded),
+      static_cast<unsigned long long>(run.safety.passivity_uncorrected), 100.0 * largest_step_N / peak_N);
   EXPECT_GT(peak_N, 0.1);  // the press was felt
   EXPECT_GE(lowest_J, -kEnergyRoundingJ);
   EXPECT_EQ(run.safety.passivity_uncorrected, 0u);

@@ -9,7 +9,11 @@ PassivityController::Action PassivityController::Control(Eigen::Vector3d& f, con
                                                          double dt_s) const {
   const double speed_sq = v.squaredNorm();
   if (!(speed_sq > 0.0) || !v.allFinite()) return Action::kNone;  // still (or no velocity): nothing to damp
-  const double energy_after_J = energy_J_ - f.dot(v) * dt_s;
+  // What this tick may give the hand: a share dt/tau of the reserve, so that
+  // a reserve running out fades the push over ~tau instead of cutting it in
+  // one tick (below zero: the deficit itself).
+  const double budget_J = energy_J_ > 0.0 ? energy_J_ * std::min(1.0, dt_s / kReserveFadeS) : energy_J_;
+  const double energy_after_J = budget_J - f.dot(v) * dt_s;
   if (!(energy_after_J < 0.0)) return Action::kNone;
   const double needed_Ns_per_m = -energy_after_J / (speed_sq * dt_s);
   // Taking back the force's push along the motion (any share of it, down to

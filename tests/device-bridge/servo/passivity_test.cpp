@@ -50,10 +50,12 @@ core::LocalForceModel Contact(const Eigen::Vector3d& anchor_W_m, double k_N_per_
 // Pressing 1 mm into a 500 N/m contact at 10 mm/s stores
 // sum 0.005 n N x 0.01 m/s x 1 ms = 2.525e-4 J. Then the contact's anchor
 // rides 2 mm above the tool as it rises at 10 mm/s: 1 N along the motion,
-// 1e-5 J given to the hand per tick. For 25 ticks the stored energy pays
-// (force untouched); on tick 26 the deficit 7.5e-6 J needs alpha = 75
-// N·s/m (1 - 0.75 = 0.25 N); from then on alpha = 100 cancels the force.
-TEST(Passivity, AContactWhoseAnchorRidesWithTheToolIsMadePassive) {
+// 1e-5 J given to the hand per tick. A tick may spend a tenth of the
+// reserve (1 ms of the 10 ms fade): while E >= 1e-4 J the force is
+// untouched (ticks 1-16); from tick 17 (E = 9.25e-5 J) the push is E x 1e4
+// N — 0.925 N, then 10 % less every tick: it fades, never steps, and E
+// never goes below zero.
+TEST(Passivity, AContactWhoseAnchorRidesWithTheToolIsMadePassiveAndItsPushFades) {
   ForceSafety s = PassivityOnly(1e3);
   const Eigen::Vector3d down(0, 0, -0.01), up(0, 0, 0.01);
   Eigen::Vector3d x(0, 0, 0);
@@ -63,15 +65,21 @@ TEST(Passivity, AContactWhoseAnchorRidesWithTheToolIsMadePassive) {
     ASSERT_EQ(s.Apply(At(f, down)), f) << "pressing, tick " << n;
   }
   EXPECT_NEAR(s.passivity_energy_J(), 2.525e-4, kEnergyTolJ);
+  double previous_N = 1.0;
   for (int j = 1; j <= 100; ++j) {
     x += up * kDt;
     const Eigen::Vector3d f = core::EvaluateLocalForce(Contact(x + Eigen::Vector3d(0, 0, 0.002), 500.0, 0.0), x, up);
     ASSERT_NEAR(f.z(), 1.0, 1e-12);
-    const double expected_N = j <= 25 ? 1.0 : j == 26 ? 0.25 : 0.0;
-    ASSERT_NEAR(s.Apply(At(f, up)).z(), expected_N, 1e-9) << "rising, tick " << j;
+    const double reserve_J = s.passivity_energy_J();
+    const double expected_N = j <= 16 ? 1.0 : reserve_J * 1e4;  // (E / 10) / (v dt)
+    const double rendered_N = s.Apply(At(f, up)).z();
+    ASSERT_NEAR(rendered_N, expected_N, 1e-9) << "rising, tick " << j;
+    ASSERT_GE(rendered_N, 0.9 * previous_N - 1e-9) << "no step: rising, tick " << j;
     ASSERT_GE(s.passivity_energy_J(), -kEnergyTolJ) << "rising, tick " << j;
+    previous_N = rendered_N;
   }
-  EXPECT_EQ(s.counters().passivity_corrected, 75u);
+  EXPECT_NEAR(previous_N, 0.925 * std::pow(0.9, 83), 1e-9);
+  EXPECT_EQ(s.counters().passivity_corrected, 84u);
   EXPECT_EQ(s.counters().passivity_uncorrected, 0u);
 }
 

@@ -10,20 +10,21 @@
 // never received - it is active (delay, a model that moves under the hand,
 // a sampled stiff wall) and can build up to a kick or an oscillation.
 //
-// Controller: when this tick's force would take E below zero, it adds
-// damping -alpha v with alpha = -E_after/(|v|^2 dt), which dissipates exactly
-// the deficit (E ends at 0). The part of alpha that only takes back the
-// force's push along the motion (f.v/|v|^2, down to no push at all) removes
-// force whatever the speed and needs no cap; what opposes the motion beyond
-// it is damping, capped at the device's largest stable damping. With E >= 0
-// before the tick the deficit is never more than the push, so the force is
-// never cut by more than it must be (no pulses of full force between ticks of
-// over-damping while E refills: a stylus drawn back against a tissue that
-// has returned all it stored feels the push fade to nothing, smoothly). Only
-// when E is below zero already (after a tick left uncorrected) does the
-// controller take the whole push and the capped damping, so E rises every
-// such tick until it is paid back. With the stylus still nothing can be
-// done (and nothing is being done to the hand).
+// Controller: a tick may give the hand at most dt/kReserveFadeS of the
+// reserve E (below zero: nothing, and the deficit is to be paid back). When
+// this tick's force would give more, it adds damping -alpha v with
+// alpha = (given - allowed)/(|v|^2 dt), which takes exactly the excess
+// away. The part of alpha that only takes back the force's push along the
+// motion (f.v/|v|^2, down to no push at all) removes force whatever the
+// speed and needs no cap; what opposes the motion beyond it is damping,
+// capped at the device's largest stable damping. So a stylus drawn back
+// against a tissue that has returned all it stored feels the push fade
+// over ~10 ms (a tenth of the reserve per tick), never cut in one tick —
+// nor in pulses of over-damping and full force. Only when E is below zero
+// already (a tick the controller did not see) does it take the whole push
+// and the capped damping, so E rises every such tick until it is paid back.
+// With the stylus still nothing can be done (and nothing is being done to
+// the hand).
 //
 // The observer integrates the force actually commanded, after every later
 // stage of the chain. Those only scale the force by a factor in [0, 1],
@@ -47,6 +48,11 @@ class PassivityController {
   double energy_J() const { return energy_J_; }
 
  private:
+  // The reserve E is spent at most at E / kReserveFadeS: when it would run
+  // out sooner (a tissue returning all it stored, a stale model pushing
+  // along the motion), the push fades over ~this long instead of stopping
+  // in one tick — a step the hand would feel.
+  static constexpr double kReserveFadeS = 0.010;
   double max_damping_Ns_per_m_;
   double energy_J_ = 0.0;  // absorbed by the environment since the start [J]
 };
