@@ -96,24 +96,21 @@ Agreement Compare(const HapticLoopRun& every, const HapticLoopRun& sparse, Force
 Eigen::Vector3d Rendered(const LoopTick& t) { return t.force_W_N; }
 Eigen::Vector3d Requested(const LoopTick& t) { return t.requested_W_N; }
 
-// Share of ticks (of a phase, or all) that sent a pose / took a model.
-double PoseShare(const HapticLoopRun& run, const char* phase = nullptr) {
-  int n = 0, sent = 0;
+// Share of ticks (of a phase, or all) where `happened` (a pose sent, a model taken).
+double ShareOfTicks(const HapticLoopRun& run, bool LoopTick::*happened, const char* phase) {
+  int n = 0, count = 0;
   for (const LoopTick& t : run.ticks) {
     if (phase && t.phase != phase) continue;
     ++n;
-    sent += t.pose_sent;
+    count += t.*happened;
   }
-  return n ? static_cast<double>(sent) / n : 0.0;
+  return n ? static_cast<double>(count) / n : 0.0;
+}
+double PoseShare(const HapticLoopRun& run, const char* phase = nullptr) {
+  return ShareOfTicks(run, &LoopTick::pose_sent, phase);
 }
 double ModelShare(const HapticLoopRun& run, const char* phase = nullptr) {
-  int n = 0, taken = 0;
-  for (const LoopTick& t : run.ticks) {
-    if (phase && t.phase != phase) continue;
-    ++n;
-    taken += t.model_taken;
-  }
-  return n ? static_cast<double>(taken) / n : 0.0;
+  return ShareOfTicks(run, &LoopTick::model_taken, phase);
 }
 
 void PrintTo(const ScriptedScene& s, std::ostream* os) { *os << s.scene; }
