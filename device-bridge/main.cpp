@@ -258,10 +258,12 @@ bool ReportDevice(const hapsim::bridge::ServoReport& report, const hapsim::bridg
   const auto* hd = dynamic_cast<const hapsim::bridge::OpenHapticsDevice*>(&device);
   if (!hd) return true;
   const hapsim::bridge::OpenHapticsCounters c = hd->counters();
-  std::printf("bridge: device scheduler %llu ticks, stalls %llu, longest gap %.1f ms, motor temperature %s\n",
-              static_cast<unsigned long long>(c.ticks), static_cast<unsigned long long>(c.stalls),
-              c.longest_gap_s * 1e3,
-              c.max_motor_temperature < 0 ? "not reported" : std::to_string(c.max_motor_temperature).c_str());
+  std::printf(
+      "bridge: device scheduler %llu ticks, stalls %llu, longest gap %.1f ms, motor temperature %s (ticks derated "
+      "for heat %llu)\n",
+      static_cast<unsigned long long>(c.ticks), static_cast<unsigned long long>(c.stalls), c.longest_gap_s * 1e3,
+      c.max_motor_temperature < 0 ? "not reported" : std::to_string(c.max_motor_temperature).c_str(),
+      static_cast<unsigned long long>(c.thermal_derated_ticks));
   std::fflush(stdout);
   if (hd->fault().empty()) return true;
   std::fprintf(stderr, "hapsim-bridge: device fault on '%s', force output stopped at zero: %s\n", session.c_str(),

@@ -93,7 +93,7 @@ void OpenHapticsDevice::Open() {
 }
 
 void OpenHapticsDevice::ReadLimits() {
-  HDdouble force = 0, continuous = 0, stiffness = 0, damping = 0;
+  HDdouble force = 0, continuous = 0, stiffness = 0, damping = 0, velocity_mm_s = 0;
   hd_->hdGetDoublev(hd::kNominalMaxForce, &force);
   hd_->hdGetDoublev(hd::kNominalMaxContinuousForce, &continuous);
   hd_->hdGetDoublev(hd::kNominalMaxStiffness, &stiffness);
@@ -101,6 +101,11 @@ void OpenHapticsDevice::ReadLimits() {
   if (const std::string error = TakeError(); !error.empty()) {
     throw DeviceError("cannot read the device's force limits: " + error);
   }
+  // The driver's own velocity check (it faults past it); not every runtime says.
+  hd_->hdGetDoublev(hd::kSoftwareVelocityLimit, &velocity_mm_s);
+  if (!TakeError().empty()) velocity_mm_s = 0;
+  // In world units a scaled workspace moves the tool `scale` times as fast.
+  limits_.max_velocity_m_per_s = IsFinitePositive(velocity_mm_s) ? config_.workspace.scale * velocity_mm_s * 1e-3 : 0.0;
   // A limit the device does not state (0 or garbage) stays unknown: ours apply.
   limits_.max_force_N = IsFinitePositive(force) ? force : 0.0;
   limits_.max_continuous_force_N = IsFinitePositive(continuous) ? continuous : 0.0;
@@ -191,9 +196,12 @@ HDCallbackCode OpenHapticsDevice::ServoTick() {
                   (*tick_)(static_cast<double>(now_ns - start_ns_) * 1e-9);  // Read + CommandForce
   ticks_.fetch_add(1, std::memory_order_relaxed);
   if (ticks_.load(std::memory_order_relaxed) % 1000 == 1) ReadMotorTemperature();
-  const Eigen::Vector3d force_D_N = go && command_W_N_.allFinite()
-                                        ? Eigen::Vector3d(resume_scale_ * config_.workspace.Force_D_N(command_W_N_))
-                                        : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d force_D_N =
+      go && command_W_N_.allFinite()
+          ? Eigen::Vector3d(resume_scale_ * thermal_scale_ * config_.workspace.Force_D_N(command_W_N_))
+          : Eigen::Vector3d::Zero();
+  if (thermal_scale_ < 1.0 && command_W_N_.squaredNorm() > 0.0)
+    thermal_derated_ticks_.fetch_add(1, std::memory_order_relaxed);
   EndFrameWithForce(force_D_N);
   if (const std::string error = TakeError(); !error.empty()) {
     hd_->hdBeginFrame(device_);  // one more frame, to leave the motors at zero
@@ -251,8 +259,10 @@ void OpenHapticsDevice::ReadMotorTemperature() {
   HDdouble temperatures[6] = {-1, -1, -1, -1, -1, -1};
   hd_->hdGetDoublev(hd::kMotorTemperature, temperatures);
   if (!TakeError().empty()) return;  // not every device reports it
-  max_motor_temperature_.store(*std::max_element(std::begin(temperatures), std::end(temperatures)),
+  const double hottest = *std::max_element(std::begin(temperatures), std::end(temperatures));
+  max_motor_temperature_.store(std::max(hottest, max_motor_temperature_.load(std::memory_order_relaxed)),
                                std::memory_order_relaxed);
+  thermal_scale_ = ThermalForceScale(hottest);
 }
 
 void OpenHapticsDevice::Fail(const std::string& what) {
@@ -261,6 +271,11 @@ void OpenHapticsDevice::Fail(const std::string& what) {
     if (fault_.empty()) fault_ = what;
   }
   done_ = true;
+}
+
+double ThermalForceScale(double temperature) {
+  if (!(temperature > kThermalDerateFrom)) return 1.0;  // cool, or not reported (negative, NaN)
+  return std::clamp((1.0 - temperature) / (1.0 - kThermalDerateFrom), 0.0, 1.0);
 }
 
 DeviceReading OpenHapticsDevice::Read(double /*t_s*/) { return reading_; }
@@ -279,6 +294,7 @@ OpenHapticsCounters OpenHapticsDevice::counters() const {
   c.longest_gap_s = longest_gap_s_.load();
   c.calibrated_on_open = calibrated_on_open_;
   c.max_motor_temperature = max_motor_temperature_.load();
+  c.thermal_derated_ticks = thermal_derated_ticks_.load();
   return c;
 }
 

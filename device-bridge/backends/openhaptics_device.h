@@ -44,8 +44,17 @@ struct OpenHapticsCounters {
   std::uint64_t stalls = 0;             // scheduler gaps beyond stall_timeout_s
   double longest_gap_s = 0.0;           // the longest gap between two callbacks
   bool calibrated_on_open = false;      // the device asked for, and got, a calibration update
-  double max_motor_temperature = -1.0;  // 0..1 of the motors' limit; -1: the device does not report it
+  double max_motor_temperature = -1.0;  // hottest motor read, 0..1 of its limit; -1: the device does not report it
+  std::uint64_t thermal_derated_ticks = 0;  // ticks whose force was derated for a hot motor
 };
+
+// A motor near its temperature limit gets less force before the driver
+// stops with HD_WARM_MOTORS: full force up to this share of the limit,
+// then linearly less, zero at the limit (read once a second).
+inline constexpr double kThermalDerateFrom = 0.8;
+// The force scale for the hottest motor at `temperature` (0..1 of its
+// limit; negative: not reported, full force).
+double ThermalForceScale(double temperature);
 
 class OpenHapticsDevice final : public HapticDevice {
  public:
@@ -99,13 +108,14 @@ class OpenHapticsDevice final : public HapticDevice {
   DeviceReading reading_;
   Eigen::Vector3d command_W_N_ = Eigen::Vector3d::Zero();
   std::int64_t start_ns_ = 0;
-  double resume_scale_ = 1.0;  // < 1 while ramping back after a stall
+  double resume_scale_ = 1.0;   // < 1 while ramping back after a stall
+  double thermal_scale_ = 1.0;  // < 1 while a motor is near its temperature limit
   HDenum calibration_status_ = hd::kCalibrationOk;
   int calibration_style_ = 0;
 
   // Written by the scheduler, read by anyone.
   std::atomic<bool> done_{false};
-  std::atomic<std::uint64_t> ticks_{0}, stalls_{0};
+  std::atomic<std::uint64_t> ticks_{0}, stalls_{0}, thermal_derated_ticks_{0};
   std::atomic<std::int64_t> last_tick_ns_{0};  // steady clock of the last servo callback
   std::atomic<double> longest_gap_s_{0.0}, max_motor_temperature_{-1.0};
   bool calibrated_on_open_ = false;  // set before the servo runs

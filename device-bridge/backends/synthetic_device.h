@@ -32,7 +32,10 @@ struct SyntheticScript {
   double depth_m = 0.005;         // deepest point below the surface
   double speed_m_per_s = 0.01;    // approach/press/withdraw speed
   double hold_s = 0.5;            // pause at depth (insertion)
-  double walk_step_m = 0.0005;    // random-walk step per 1 ms tick (std dev)
+  // Random-walk step per 1 ms tick, per axis (std dev): 30 um, a hand's
+  // palpating speed (mean ~48 mm/s), well under the chain's 0.6 m/s velocity
+  // limit (a 0.5 mm step would be ~0.8 m/s: past it, no force at all).
+  double walk_step_m = 0.00003;
   double walk_radius_m = 0.01;    // random-walk bound around the entry point
   std::uint32_t seed = 1;
   double cut_length_m = 0.02;     // cut: incision length

@@ -59,6 +59,7 @@ inline constexpr HDenum kNominalMaxStiffness = 0x2602;        // N/mm
 inline constexpr HDenum kNominalMaxForce = 0x2603;            // N
 inline constexpr HDenum kNominalMaxContinuousForce = 0x2604;  // N
 inline constexpr HDenum kMotorTemperature = 0x2605;           // per motor, 0..1 of the limit
+inline constexpr HDenum kSoftwareVelocityLimit = 0x2606;  // mm/s: past it the driver faults (HD_EXCEEDED_MAX_VELOCITY)
 inline constexpr HDenum kNominalMaxDamping = 0x2609;          // N s/mm
 inline constexpr HDenum kCurrentForce = 0x2700;               // 3 doubles [N], device frame
 

@@ -23,6 +23,7 @@ void ValidateDeviceLimits(const DeviceLimits& d) {
   RequireKnownOrPositive(d.max_continuous_force_N, "max_continuous_force_N");
   RequireKnownOrPositive(d.max_stiffness_N_per_m, "max_stiffness_N_per_m");
   RequireKnownOrPositive(d.max_damping_Ns_per_m, "max_damping_Ns_per_m");
+  RequireKnownOrPositive(d.max_velocity_m_per_s, "max_velocity_m_per_s");
 }
 
 }  // namespace hapsim::bridge

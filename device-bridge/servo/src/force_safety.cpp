@@ -112,7 +112,7 @@ void ForceSafety::ZeroIfNonFinite(Eigen::Vector3d& f) {
 }
 
 bool ForceSafety::LimitVelocity(Eigen::Vector3d& f, const Eigen::Vector3d& v) {
-  if (v.norm() <= config_.max_velocity_m_per_s) return false;
+  if (v.norm() <= limits_.max_velocity_m_per_s) return false;
   ++counters_.velocity_limited;  // a NaN velocity too: the reading is garbage
   f.setZero();
   return true;

@@ -65,6 +65,7 @@ EffectiveLimits CombineLimits(const SafetyConfig& c, const DeviceLimits& d) {
   e.max_continuous_force_N = d.max_continuous_force_N > 0.0 ? d.max_continuous_force_N : c.max_continuous_force_N;
   e.max_stiffness_N_per_m = LowerOfKnown(c.max_stiffness_N_per_m, d.max_stiffness_N_per_m);
   e.max_damping_Ns_per_m = LowerOfKnown(c.max_damping_Ns_per_m, d.max_damping_Ns_per_m);
+  e.max_velocity_m_per_s = LowerOfKnown(c.max_velocity_m_per_s, d.max_velocity_m_per_s);
   return e;
 }
 

@@ -12,7 +12,9 @@
 //  - button 2 held for 50 ms at each time of HAPSIM_FAKE_HD_BUTTON_TAPS_MS
 //    ("300,900");
 //  - device limits of an Omni: 3.3 N peak, 0.88 N continuous, 0.7 N/mm,
-//    0.0025 N s/mm (HAPSIM_FAKE_HD_LIMITS="peak,continuous,k,b" overrides);
+//    0.0025 N s/mm, and a software velocity limit of 1200 mm/s
+//    (HAPSIM_FAKE_HD_LIMITS="peak,continuous,k,b[,v_mm_s]" overrides);
+//  - motors at 0.25 of their temperature limit (HAPSIM_FAKE_HD_TEMPERATURE);
 //  - faults, HAPSIM_FAKE_HD_FAULT=
 //      no_device            hdInitDevice fails with HD_COMM_ERROR
 //      calibration_manual   the stylus must go in its inkwell: never calibrated
@@ -61,7 +63,8 @@ struct Device {
   // Configuration (hdInitDevice).
   std::string script = "press", fault, log_path;
   std::vector<double> taps_ms;
-  double limits[4] = {3.3, 0.88, 0.7, 0.0025};
+  double limits[5] = {3.3, 0.88, 0.7, 0.0025, 1200.0};
+  double temperature = 0.25;
   double stall_at_ms = -1, stall_for_ms = 0, force_fault_at_ms = -1;
   // State.
   bool open = false, calibrated = true, force_enabled = false, in_frame = false, faulted = false;
@@ -104,8 +107,9 @@ void Configure(Device& d) {
     }
   }
   if (const char* limits = std::getenv("HAPSIM_FAKE_HD_LIMITS")) {
-    std::sscanf(limits, "%lf,%lf,%lf,%lf", &d.limits[0], &d.limits[1], &d.limits[2], &d.limits[3]);
+    std::sscanf(limits, "%lf,%lf,%lf,%lf,%lf", &d.limits[0], &d.limits[1], &d.limits[2], &d.limits[3], &d.limits[4]);
   }
+  if (const char* t = std::getenv("HAPSIM_FAKE_HD_TEMPERATURE")) d.temperature = std::atof(t);
   if (d.fault.rfind("stall:", 0) == 0) {
     d.stall_at_ms = EnvNumber(d.fault, 1);
     d.stall_for_ms = EnvNumber(d.fault, 2);
@@ -314,10 +318,14 @@ __attribute__((visibility("default"))) void hdGetDoublev(HDenum name, HDdouble* 
     case hd::kNominalMaxDamping:
       values[0] = d.limits[3];
       return;
+    case hd::kSoftwareVelocityLimit:
+      values[0] = d.limits[4];
+      return;
     case hd::kMotorTemperature:
       if (d.fault == "no_temperature") break;
       std::fill(values, values + 6, 0.0);
-      values[0] = values[1] = values[2] = 0.25;
+      values[0] = values[2] = 0.25;
+      values[1] = d.temperature;  // the motor the test heats
       return;
     default:
       break;

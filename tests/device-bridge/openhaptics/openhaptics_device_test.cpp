@@ -8,12 +8,15 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "hapsim/servo/force_safety.h"
 
 namespace hapsim::bridge {
 namespace {
@@ -26,8 +29,8 @@ struct FakeFrame {
 class FakeHdTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    for (const char* name :
-         {"HAPSIM_FAKE_HD_SCRIPT", "HAPSIM_FAKE_HD_FAULT", "HAPSIM_FAKE_HD_LIMITS", "HAPSIM_FAKE_HD_BUTTON_TAPS_MS"}) {
+    for (const char* name : {"HAPSIM_FAKE_HD_SCRIPT", "HAPSIM_FAKE_HD_FAULT", "HAPSIM_FAKE_HD_LIMITS",
+                             "HAPSIM_FAKE_HD_BUTTON_TAPS_MS", "HAPSIM_FAKE_HD_TEMPERATURE"}) {
       unsetenv(name);
     }
     log_ = ::testing::TempDir() + "fake_hd_" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".csv";
@@ -117,7 +120,56 @@ TEST_F(FakeHdTest, TheDeviceLimitsAreReadInWorldUnitsAndDividedByTheWorkspaceSca
   EXPECT_DOUBLE_EQ(limits.max_continuous_force_N, 0.88);
   EXPECT_DOUBLE_EQ(limits.max_stiffness_N_per_m, 700.0 / 2.0);  // 0.7 N/mm; a 2x workspace feels twice as stiff
   EXPECT_DOUBLE_EQ(limits.max_damping_Ns_per_m, 2.5 / 2.0);
+  EXPECT_DOUBLE_EQ(limits.max_velocity_m_per_s, 2.0 * 1.2);  // 1200 mm/s; a 2x workspace moves twice as fast
   EXPECT_EQ(device.Name(), "openhaptics:hapsim fake Omni");
+}
+
+// A device whose driver stops at 400 mm/s: the chain zeroes the force from
+// 0.4 m/s on (its own 0.6 m/s would let the driver fault first).
+TEST_F(FakeHdTest, TheDriversVelocityLimitBecomesTheChainsWhenItIsLower) {
+  setenv("HAPSIM_FAKE_HD_LIMITS", "3.3,0.88,0.7,0.0025,400", 1);
+  OpenHapticsDevice device(config_);
+  EXPECT_DOUBLE_EQ(device.Limits().max_velocity_m_per_s, 0.4);
+  SafetyConfig quiet;
+  quiet.ramp_in_s = 0.0;
+  quiet.max_rise_N_per_s = 1e9;
+  quiet.passivity_control = false;
+  ForceSafety safety(quiet, device.Limits());
+  SafetyInput in;
+  in.requested_W_N = Eigen::Vector3d(0, 0, 0.5);
+  in.model_age_s = 0.001;
+  in.velocity_W_m_per_s = Eigen::Vector3d(0, 0.39, 0);
+  EXPECT_DOUBLE_EQ(safety.Apply(in).z(), 0.5);
+  in.velocity_W_m_per_s = Eigen::Vector3d(0, 0.41, 0);
+  EXPECT_EQ(safety.Apply(in).norm(), 0.0);
+  EXPECT_EQ(safety.counters().velocity_limited, 1u);
+}
+
+// A motor at 0.9 of its temperature limit: from the first reading on, the
+// device gets half the force (full up to 0.8, zero at 1.0), and says so.
+TEST_F(FakeHdTest, AMotorNearItsTemperatureLimitDeratesTheForce) {
+  setenv("HAPSIM_FAKE_HD_TEMPERATURE", "0.9", 1);
+  {
+    OpenHapticsDevice device(config_);
+    Run(device, 50, Eigen::Vector3d(0, 0, 1.0));  // world +z is the device's +y
+    EXPECT_DOUBLE_EQ(device.counters().max_motor_temperature, 0.9);
+    EXPECT_GE(device.counters().thermal_derated_ticks, 48u);
+  }
+  const std::vector<FakeFrame> frames = Frames();
+  ASSERT_GE(frames.size(), 48u);
+  // Frame 0 precedes the first reading; the last is the loop's end (zero).
+  for (std::size_t i = 1; i + 1 < frames.size(); ++i) EXPECT_NEAR(frames[i].fy, 0.5, 1e-12) << "frame " << i;
+  EXPECT_EQ(frames.back().fy, 0.0);
+}
+
+TEST(ThermalForceScale, FullToEightTenthsThenLinearToZeroAtTheLimit) {
+  EXPECT_EQ(ThermalForceScale(-1.0), 1.0);  // not reported
+  EXPECT_EQ(ThermalForceScale(0.8), 1.0);
+  EXPECT_NEAR(ThermalForceScale(0.9), 0.5, 1e-12);
+  EXPECT_NEAR(ThermalForceScale(0.95), 0.25, 1e-12);
+  EXPECT_EQ(ThermalForceScale(1.0), 0.0);
+  EXPECT_EQ(ThermalForceScale(1.5), 0.0);
+  EXPECT_EQ(ThermalForceScale(std::nan("")), 1.0);
 }
 
 // The device frame has y up and z towards the user; ours z up, y away.

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -92,6 +93,25 @@ TEST(SyntheticRandomWalk, StaysInItsBoxAndIsDeterministicPerSeed) {
     ASSERT_LE(ra.tip_W_m.z(), s.start_height_m + 1e-12);
     ASSERT_GE(ra.tip_W_m.z(), -s.depth_m - 1e-12);
   }
+}
+
+// Each axis steps N(0, 30 um) per 1 ms tick, so the speed follows Maxwell's
+// distribution with sigma = 0.03 m/s: mean 2 sigma sqrt(2/pi) = 47.9 mm/s
+// (5000 ticks: within 3 %, about 10 standard errors), and never near the
+// safety chain's 0.6 m/s velocity limit (20 sigma).
+TEST(SyntheticRandomWalk, MovesAtAPalpatingHandsSpeed) {
+  SyntheticScript s;
+  s.kind = "random_walk";
+  SyntheticDevice d(s);
+  double sum = 0.0, fastest = 0.0;
+  for (int i = 1; i <= 5000; ++i) {
+    const double speed = d.Read(i * 1e-3).velocity_W_m_per_s.norm();
+    sum += speed;
+    fastest = std::max(fastest, speed);
+  }
+  const double maxwell_mean = 2.0 * 0.03 * std::sqrt(2.0 / M_PI);
+  EXPECT_NEAR(sum / 5000, maxwell_mean, 0.03 * maxwell_mean);
+  EXPECT_LT(fastest, 0.6);
 }
 
 TEST(SyntheticDevice, RejectsUnknownScriptAndBadNumbers) {

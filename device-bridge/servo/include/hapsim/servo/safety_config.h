@@ -79,6 +79,7 @@ struct EffectiveLimits {
   double max_continuous_force_N = 0.0;
   double max_stiffness_N_per_m = 0.0;
   double max_damping_Ns_per_m = 0.0;
+  double max_velocity_m_per_s = 0.0;
 };
 EffectiveLimits CombineLimits(const SafetyConfig& config, const DeviceLimits& device);
 
