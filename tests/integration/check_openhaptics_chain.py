@@ -51,4 +51,20 @@ rows = frames("faulted")
 check(magnitude(rows[-1]) == 0.0, "the frame after the fault writes exactly zero force")
 check(rows[-1]["t_ms"] - 1500.0 < 2.0, f"within one servo period of the fault (last frame at {rows[-1]['t_ms']} ms)")
 check(not any(r["t_ms"] > rows[-1]["t_ms"] for r in rows), "no frame after it")
+
+# 3. Two styluses on one bridge: each device's loop on the one scheduler, each pushed by its own session's tissue.
+out = read_text(work, "two.out")
+check(not os.path.exists(os.path.join(work, "two.rc")), "the two-device run exits 0")
+ticks = [int(t) for t in re.findall(r"device scheduler (\d+) ticks", out)]
+models = [int(m) for m in re.findall(r"force models received (\d+)", out)]
+check(len(ticks) == 2 and min(ticks) >= 1900, f"both devices' servo loops ran ~1 kHz for 2 s: {ticks} ticks")
+check(len(models) == 2 and all(m >= 0.75 * t for m, t in zip(models, ticks)),
+      f"each device got its session's models for >= 75 % of its ticks: {models}")
+for name in ("two", "two.fake.csv.2"):
+    path = os.path.join(work, f"{name}.fake.csv" if name == "two" else name)
+    with open(path) as f:
+        rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    pressed = [r for r in rows if r["y_mm"] <= -4.0]
+    check(len(pressed) > 100 and all(r["fy_N"] > 0.1 for r in pressed[50:-1]),
+          f"{os.path.basename(path)}: pressed 4-5 mm deep, pushed up by its tissue ({len(pressed)} frames)")
 finish()

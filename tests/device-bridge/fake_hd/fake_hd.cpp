@@ -25,7 +25,13 @@
 //  - HAPSIM_FAKE_HD_LOG=PATH: every frame that commanded a force, its pose
 //    and that force (t_ms,y_mm,fx_N,fy_N,fz_N), written when the device is
 //    disabled.
-// Environment is read at hdInitDevice; hdDisableDevice resets everything.
+//  - up to four devices at once (handles 1-4), as a lab PC with several
+//    styluses: each has its own stylus, limits, frames and log (device k > 1
+//    logs to HAPSIM_FAKE_HD_LOG + ".k"), all on one scheduler thread, like
+//    the SDK's. The API acts on the current device: the one a frame was
+//    begun for, else the one last opened or made current, per thread.
+// Environment is read at hdInitDevice; hdDisableDevice closes that device,
+// and the last one closed stops the scheduler and forgets everything.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -78,7 +84,13 @@ struct Device {
 
 std::mutex g_mutex;  // guards everything below but the scheduler's own loop state
 std::condition_variable g_wake;
-Device g_device;
+constexpr HHD kMaxDevices = 4;
+Device g_devices[kMaxDevices + 1];  // by handle; [0] unused
+thread_local HHD t_current = 1;     // the calling thread's current device
+Device& Current() { return g_devices[t_current]; }
+bool AnyOpen() {
+  return std::any_of(g_devices + 1, g_devices + kMaxDevices + 1, [](const Device& d) { return d.open; });
+}
 std::vector<HDErrorInfo> g_errors;  // newest last; hdGetError pops from the back
 std::vector<Scheduled> g_scheduled;
 HDSchedulerHandle g_next_handle = 1;
@@ -145,7 +157,9 @@ void RunCallbacks() {
   std::vector<Scheduled> due;
   {
     std::lock_guard lock(g_mutex);
-    MoveStylus(g_device);
+    for (Device& d : g_devices) {
+      if (d.open) MoveStylus(d);
+    }
     due = g_scheduled;
   }
   std::stable_sort(due.begin(), due.end(),
@@ -170,17 +184,19 @@ void SchedulerLoop() {
     double stall_ms = 0.0;
     {
       std::lock_guard lock(g_mutex);
-      g_device.t_ms += 1.0;
-      if (g_device.stall_at_ms >= 0.0 && g_device.t_ms >= g_device.stall_at_ms) {
-        stall_ms = g_device.stall_for_ms;
-        g_device.stall_at_ms = -1.0;  // once
+      for (Device& d : g_devices) {  // a stall is the scheduler's: every device misses it
+        d.t_ms += 1.0;
+        if (d.open && d.stall_at_ms >= 0.0 && d.t_ms >= d.stall_at_ms) {
+          stall_ms = std::max(stall_ms, d.stall_for_ms);
+          d.stall_at_ms = -1.0;  // once
+        }
       }
     }
     if (stall_ms > 0.0) {
       std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(stall_ms));
       next = Clock::now();
       std::lock_guard lock(g_mutex);
-      g_device.t_ms += stall_ms;
+      for (Device& d : g_devices) d.t_ms += stall_ms;
     }
     RunCallbacks();
   }
@@ -201,35 +217,52 @@ extern "C" {
 
 __attribute__((visibility("default"))) HHD hdInitDevice(HDstring /*config_name*/) {
   std::lock_guard lock(g_mutex);
-  Configure(g_device);
-  if (g_device.fault == "no_device") {
+  HHD handle = 1;
+  while (handle <= kMaxDevices && g_devices[handle].open) ++handle;
+  Device probe;
+  Configure(probe);
+  if (probe.fault == "no_device" || handle > kMaxDevices) {
     PushError(hd::kCommError, 42);
     return hd::kInvalidHandle;
   }
-  g_device.open = true;
-  return 1;
+  if (handle > 1 && !probe.log_path.empty()) probe.log_path.append(".").append(std::to_string(handle));
+  probe.open = true;
+  g_devices[handle] = std::move(probe);
+  t_current = handle;
+  return handle;
 }
 
-__attribute__((visibility("default"))) void hdDisableDevice(HHD) {
+__attribute__((visibility("default"))) void hdDisableDevice(HHD handle) {
+  bool last;
+  {
+    std::lock_guard lock(g_mutex);
+    if (handle < 1 || handle > kMaxDevices) return;
+    WriteLog(g_devices[handle]);
+    g_devices[handle] = Device{};
+    last = !AnyOpen();
+  }
+  if (!last) return;
   if (g_running.exchange(false) && g_scheduler.joinable()) g_scheduler.join();
   std::lock_guard lock(g_mutex);
-  WriteLog(g_device);
-  g_device = Device{};
   g_scheduled.clear();
   g_errors.clear();
 }
 
-__attribute__((visibility("default"))) void hdMakeCurrentDevice(HHD) {}
-
-__attribute__((visibility("default"))) void hdBeginFrame(HHD) {
-  std::lock_guard lock(g_mutex);
-  if (g_device.in_frame) PushError(0x0400);  // HD_ILLEGAL_BEGIN
-  g_device.in_frame = true;
+__attribute__((visibility("default"))) void hdMakeCurrentDevice(HHD handle) {
+  if (handle >= 1 && handle <= kMaxDevices) t_current = handle;
 }
 
-__attribute__((visibility("default"))) void hdEndFrame(HHD) {
+__attribute__((visibility("default"))) void hdBeginFrame(HHD handle) {
+  hdMakeCurrentDevice(handle);
   std::lock_guard lock(g_mutex);
-  Device& d = g_device;
+  if (Current().in_frame) PushError(0x0400);  // HD_ILLEGAL_BEGIN
+  Current().in_frame = true;
+}
+
+__attribute__((visibility("default"))) void hdEndFrame(HHD handle) {
+  hdMakeCurrentDevice(handle);
+  std::lock_guard lock(g_mutex);
+  Device& d = Current();
   if (!d.in_frame) PushError(0x0401);  // HD_ILLEGAL_END
   d.in_frame = false;
   const bool fault_now = d.force_fault_at_ms >= 0.0 && d.t_ms >= d.force_fault_at_ms;
@@ -268,19 +301,19 @@ __attribute__((visibility("default"))) HDstring hdGetErrorString(HDerror code) {
 
 __attribute__((visibility("default"))) void hdEnable(HDenum capability) {
   std::lock_guard lock(g_mutex);
-  if (capability == hd::kForceOutput) g_device.force_enabled = true;
+  if (capability == hd::kForceOutput) Current().force_enabled = true;
 }
 
 __attribute__((visibility("default"))) void hdDisable(HDenum capability) {
   std::lock_guard lock(g_mutex);
-  if (capability == hd::kForceOutput) g_device.force_enabled = false;
+  if (capability == hd::kForceOutput) Current().force_enabled = false;
 }
 
 __attribute__((visibility("default"))) void hdGetIntegerv(HDenum name, HDint* values) {
   std::lock_guard lock(g_mutex);
   switch (name) {
     case hd::kCurrentButtons:
-      values[0] = g_device.buttons;
+      values[0] = Current().buttons;
       return;
     case hd::kCalibrationStyle:
       values[0] = hd::kCalibrationEncoderReset | hd::kCalibrationInkwell;
@@ -292,7 +325,7 @@ __attribute__((visibility("default"))) void hdGetIntegerv(HDenum name, HDint* va
 
 __attribute__((visibility("default"))) void hdGetDoublev(HDenum name, HDdouble* values) {
   std::lock_guard lock(g_mutex);
-  const Device& d = g_device;
+  const Device& d = Current();
   switch (name) {
     case hd::kCurrentPosition:
       std::copy(d.pos_mm, d.pos_mm + 3, values);
@@ -343,20 +376,20 @@ __attribute__((visibility("default"))) void hdSetDoublev(HDenum name, const HDdo
     PushError(hd::kInvalidEnum);
     return;
   }
-  std::copy(values, values + 3, g_device.pending_force);
-  g_device.force_set_in_frame = true;
+  std::copy(values, values + 3, Current().pending_force);
+  Current().force_set_in_frame = true;
 }
 
 __attribute__((visibility("default"))) HDenum hdCheckCalibration() {
   std::lock_guard lock(g_mutex);
-  if (g_device.calibrated) return hd::kCalibrationOk;
-  return g_device.fault == "calibration_manual" ? hd::kCalibrationNeedsManualInput : hd::kCalibrationNeedsUpdate;
+  if (Current().calibrated) return hd::kCalibrationOk;
+  return Current().fault == "calibration_manual" ? hd::kCalibrationNeedsManualInput : hd::kCalibrationNeedsUpdate;
 }
 
 __attribute__((visibility("default"))) void hdUpdateCalibration(HDenum style) {
   std::lock_guard lock(g_mutex);
-  if (g_device.fault == "calibration_update" && style == static_cast<HDenum>(hd::kCalibrationEncoderReset)) {
-    g_device.calibrated = true;
+  if (Current().fault == "calibration_update" && style == static_cast<HDenum>(hd::kCalibrationEncoderReset)) {
+    Current().calibrated = true;
   }
 }
 

@@ -14,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "hapsim/servo/force_safety.h"
@@ -160,6 +162,44 @@ TEST_F(FakeHdTest, AMotorNearItsTemperatureLimitDeratesTheForce) {
   // Frame 0 precedes the first reading; the last is the loop's end (zero).
   for (std::size_t i = 1; i + 1 < frames.size(); ++i) EXPECT_NEAR(frames[i].fy, 0.5, 1e-12) << "frame " << i;
   EXPECT_EQ(frames.back().fy, 0.0);
+}
+
+// Two styluses on one runtime (a lab PC with two devices): each opens its
+// own handle, runs its own servo loop on the one scheduler, and its force
+// reaches only its own motors — every frame of each, its own 0.4 N or -0.3 N.
+TEST_F(FakeHdTest, TwoDevicesRunTheirOwnLoopsOnOneScheduler) {
+  {
+    OpenHapticsDevice first(config_);
+    OpenHapticsDevice second(config_);
+    std::thread other([&] {
+      std::atomic<bool> stop{false};
+      int n = 0;
+      const std::function<bool(double)> tick = [&](double) {
+        second.CommandForce(Eigen::Vector3d(0, 0, -0.3));
+        return ++n < 300;
+      };
+      second.RunServo(tick, stop);
+    });
+    Run(first, 300, Eigen::Vector3d(0, 0, 0.4));
+    other.join();
+    EXPECT_TRUE(first.fault().empty() && second.fault().empty()) << first.fault() << second.fault();
+    EXPECT_GE(first.counters().ticks, 300u);
+    EXPECT_GE(second.counters().ticks, 300u);
+  }
+  for (const auto& [log, expected_N] : {std::pair{log_, 0.4}, std::pair{log_ + ".2", -0.3}}) {
+    std::ifstream in(log);
+    std::string line;
+    std::getline(in, line);
+    int frames = 0, own = 0;
+    while (std::getline(in, line)) {
+      FakeFrame f{};
+      std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &f.t_ms, &f.y_mm, &f.fx, &f.fy, &f.fz);
+      ++frames;
+      own += f.fy == expected_N || f.fy == 0.0;  // 0: before the first command and at the loop's end
+    }
+    EXPECT_GE(frames, 299) << log;
+    EXPECT_EQ(own, frames) << log;
+  }
 }
 
 TEST(ThermalForceScale, FullToEightTenthsThenLinearToZeroAtTheLimit) {
