@@ -10,8 +10,9 @@ from checks import check, finish, read_text
 work = sys.argv[1]
 
 
-def frames(name):
-    with open(os.path.join(work, f"{name}.fake.csv")) as f:
+def frames(name, suffix=""):
+    """The fake device's frame log of run NAME (device k > 1 of several: suffix ".k")."""
+    with open(os.path.join(work, f"{name}.fake.csv{suffix}")) as f:
         return [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
 
 
@@ -60,11 +61,8 @@ models = [int(m) for m in re.findall(r"force models received (\d+)", out)]
 check(len(ticks) == 2 and min(ticks) >= 1900, f"both devices' servo loops ran ~1 kHz for 2 s: {ticks} ticks")
 check(len(models) == 2 and all(m >= 0.75 * t for m, t in zip(models, ticks)),
       f"each device got its session's models for >= 75 % of its ticks: {models}")
-for name in ("two", "two.fake.csv.2"):
-    path = os.path.join(work, f"{name}.fake.csv" if name == "two" else name)
-    with open(path) as f:
-        rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
-    pressed = [r for r in rows if r["y_mm"] <= -4.0]
+for device, suffix in (("t1", ""), ("t2", ".2")):
+    pressed = [r for r in frames("two", suffix) if r["y_mm"] <= -4.0]
     check(len(pressed) > 100 and all(r["fy_N"] > 0.1 for r in pressed[50:-1]),
-          f"{os.path.basename(path)}: pressed 4-5 mm deep, pushed up by its tissue ({len(pressed)} frames)")
+          f"{device}'s stylus: pressed 4-5 mm deep, pushed up by its tissue ({len(pressed)} frames)")
 finish()

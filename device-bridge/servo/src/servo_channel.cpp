@@ -79,6 +79,7 @@ bool ServoChannel::TakeNewestModel(common::LatestValue<ReceivedModel>& inbox) {
   if (have_model_ && incoming.server_instance == model_.server_instance && incoming.seq > model_.seq + 1)
     counters_.models_unused += incoming.seq - model_.seq - 1;
   model_ = incoming;
+  promised_gap_s_ = std::min(model_.next_model_within_s, kLongestPromisedGapS);
   // Later models for the same pose answer it too: their physics is of the
   // stylus as long after that pose as the server held (extrapolated) it.
   physics_known_ = echo_known;
@@ -108,8 +109,7 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   tick_.model_overdue_s = -1.0;
   tick_.physics_age_s = -1.0;
   if (have_model_) {
-    const double promised_s = std::min(model_.next_model_within_s, kLongestPromisedGapS);
-    tick_.model_overdue_s = std::max(0.0, tick_.model_age_s - promised_s);
+    tick_.model_overdue_s = std::max(0.0, tick_.model_age_s - promised_gap_s_);
     tick_.physics_age_s =
         physics_known_
             ? std::max(0.0, static_cast<double>(model_.received_ns - physics_sensed_ns_) * 1e-9) + tick_.model_overdue_s
@@ -128,7 +128,7 @@ const ChannelTick& ServoChannel::Actuate(common::LatestValue<ReceivedModel>& inb
   in.velocity_W_m_per_s = r.velocity_W_m_per_s;
   in.buttons = r.buttons;
   in.model_age_s = tick_.model_age_s;
-  in.model_gap_allowance_s = have_model_ ? std::min(model_.next_model_within_s, kLongestPromisedGapS) : 0.0;
+  in.model_gap_allowance_s = promised_gap_s_;
   in.physics_age_s = tick_.physics_age_s;
   in.dt_s = period_s_;
   tick_.force_W_N = safety_.Apply(in);

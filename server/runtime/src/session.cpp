@@ -62,6 +62,8 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
   layer_names_ = std::make_shared<const std::vector<std::string>>(scene_->Status().layer_names);
   ticks_per_frame_ = std::max<std::uint64_t>(
       1, static_cast<std::uint64_t>(std::llround(1.0 / (config_.frame_rate_hz * config_.tick_period_s))));
+  // What every model promises: with a deadband, the next one within its keep-alive.
+  force_message_.next_model_within_s = deadband.jnd > 0.0 ? deadband.keepalive_s : 0.0;
   PublishSnapshot(TickInput{});  // viewers joining before the first tick get the initial mesh
 }
 
@@ -178,8 +180,7 @@ void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel
   m.device_id = in.device_id;
   m.seq = force_seq_++;
   m.echo_pose_seq = in.pose_seq;
-  m.echo_pose_held_ns = in.fresh_pose ? 0 : now_ns - pose_taken_ns_;
-  m.next_model_within_s = config_.model_deadband.jnd > 0.0 ? config_.model_deadband.keepalive_s : 0.0;
+  m.echo_pose_held_ns = now_ns - pose_taken_ns_;  // 0 on the tick that took it
   m.tool_force_W_N = in.paused ? Eigen::Vector3d::Zero() : scene_->ToolForce_W_N();
   m.t_server_ns = common::SteadyNowNs();
   // A refused write is counted by the port (ServerDds counters).

@@ -133,6 +133,7 @@ class ServoChannel {
   std::array<Eigen::Vector3d, kSentRing> sent_tip_W_m_, sent_velocity_W_m_per_s_;
   bool have_model_ = false;
   ReceivedModel model_;
+  double promised_gap_s_ = 0.0;         // the held model's promised gap, at most kLongestPromisedGapS
   std::int64_t physics_sensed_ns_ = 0;  // when the pose the held model answers was sensed
   bool physics_known_ = false;          // ... and whether that pose is one this channel remembers
   ModelDelay delay_;
