@@ -17,7 +17,11 @@
 #   hapsim::streaming runtime, proto, gRPC: frames for viewers — no DDS
 #   hapsim::classroom runtime, toml++ and OpenSSL's crypto (class config,
 #                     token hashes) — no gRPC, no protobuf, no DDS
-#   hapsim::api       the four above, proto, gRPC, prometheus-cpp's core
+#   hapsim::recording runtime + zstd: trial recordings (format, recorder,
+#                     replay) — no gRPC, no DDS, no SQLite
+#   hapsim::store     classroom + SQLite: the results database — no gRPC,
+#                     no DDS
+#   hapsim::api       the six above, proto, gRPC, prometheus-cpp's core
 #                     (/metrics) — never the DDS wire types
 #   hapsim::app       api: the server process
 #   the device side, in layers (device-bridge/):
@@ -64,6 +68,10 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "dds/|ddsc|haptics\\.h|${_not_server_extras}|hapsim/(io|dds|wire|device_link|classroom|api|app|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::classroom TARGET hapsim_classroom DIRS ${PROJECT_SOURCE_DIR}/server/classroom
     PATTERN "grpc|grpcpp|google/protobuf|dds/|ddsc|haptics\\.h|asio|prometheus|hapsim/(io|dds|wire|device_link|streaming|api|app|${_device_side}|viewer|v1)/")
+  hapsim_forbid_includes(hapsim::recording TARGET hapsim_recording DIRS ${PROJECT_SOURCE_DIR}/server/recording
+    PATTERN "grpc|grpcpp|google/protobuf|dds/|ddsc|haptics\\.h|asio|sqlite|${_not_server_extras}|hapsim/(io|dds|wire|device_link|streaming|classroom|store|api|app|${_device_side}|viewer|v1)/")
+  hapsim_forbid_includes(hapsim::store TARGET hapsim_store DIRS ${PROJECT_SOURCE_DIR}/server/store
+    PATTERN "grpc|grpcpp|google/protobuf|dds/|ddsc|haptics\\.h|asio|zstd|prometheus|hapsim/(io|dds|wire|device_link|streaming|recording|api|app|${_device_side}|viewer|v1)/")
   hapsim_forbid_includes(hapsim::api TARGET hapsim_api DIRS ${PROJECT_SOURCE_DIR}/server/api
     PATTERN "haptics\\.h|toml|openssl|hapsim/(io|wire|app|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::app TARGET hapsim_app DIRS ${PROJECT_SOURCE_DIR}/server/app
@@ -109,11 +117,15 @@ set(_runtime hapsim_runtime ${_core} ${_common})
 set(_device_link hapsim_device_link ${_runtime} ${_dds} ${_wire})
 set(_streaming hapsim_streaming ${_runtime} ${_proto})
 set(_classroom hapsim_classroom ${_runtime})
-set(_api hapsim_api ${_device_link} ${_streaming} ${_classroom} prometheus-cpp::core)
+set(_recording hapsim_recording ${_runtime} zstd::libzstd_shared)
+set(_store hapsim_store ${_classroom} SQLite::SQLite3)
+set(_api hapsim_api ${_device_link} ${_streaming} ${_classroom} ${_recording} ${_store} prometheus-cpp::core)
 hapsim_layer_allows(hapsim_runtime ${_runtime})
 hapsim_layer_allows(hapsim_device_link ${_device_link})
 hapsim_layer_allows(hapsim_streaming ${_streaming})
 hapsim_layer_allows(hapsim_classroom ${_classroom})
+hapsim_layer_allows(hapsim_recording ${_recording})
+hapsim_layer_allows(hapsim_store ${_store})
 hapsim_layer_allows(hapsim_api ${_api})
 hapsim_layer_allows(hapsim_app hapsim_app ${_api})
 hapsim_layer_allows(hapsim_servo ${_servo})

@@ -9,6 +9,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libssl-dev openssl libtinygltf-dev nlohmann-json3-dev prometheus-cpp-dev
+  libzstd-dev libsqlite3-dev  # trial recordings (zstd blocks), the results database
   python3 python3-scipy python3-numpy python3-grpcio curl
   iproute2  # the network lab (netlab/netlab.sh): ip netns, TUN devices
   clang libfuzzer-14-dev libclang-rt-14-dev

@@ -286,14 +286,25 @@ int ReportFailure(const grpc::Status& status) {
 
 const Command* FindCommand(const std::string& name) {
   static const std::map<std::string, Command> commands = {
-      {"scenes", {IdArg::kNone, &RunScenes}},         {"list", {IdArg::kNone, &RunList}},
-      {"create", {IdArg::kOptionalId, &RunCreate}},   {"health", {IdArg::kNone, &RunHealth}},
-      {"info", {IdArg::kOneId, &RunSessionControl}},  {"close", {IdArg::kOneId, &RunClose}},
-      {"pause", {IdArg::kOneId, &RunSessionControl}}, {"resume", {IdArg::kOneId, &RunSessionControl}},
-      {"reset", {IdArg::kOneId, &RunSessionControl}}, {"snapshot", {IdArg::kOneId, &RunSnapshot}},
-      {"score", {IdArg::kOneId, &RunScore}},          {"join", {IdArg::kOneId, &RunJoin}},
-      {"scores", {IdArg::kOptionalId, &RunScores}},   {"watch", {IdArg::kOptionalId, &Watch}},
-      {"trials", {IdArg::kOptionalId, &RunTrials}},   {"push", {IdArg::kOneId, &RunPush}},
+      {"scenes", {IdArg::kNone, &RunScenes}},
+      {"list", {IdArg::kNone, &RunList}},
+      {"create", {IdArg::kOptionalId, &RunCreate}},
+      {"health", {IdArg::kNone, &RunHealth}},
+      {"info", {IdArg::kOneId, &RunSessionControl}},
+      {"close", {IdArg::kOneId, &RunClose}},
+      {"pause", {IdArg::kOneId, &RunSessionControl}},
+      {"resume", {IdArg::kOneId, &RunSessionControl}},
+      {"reset", {IdArg::kOneId, &RunSessionControl}},
+      {"snapshot", {IdArg::kOneId, &RunSnapshot}},
+      {"score", {IdArg::kOneId, &RunScore}},
+      {"join", {IdArg::kOneId, &RunJoin}},
+      {"scores", {IdArg::kOptionalId, &RunScores}},
+      {"watch", {IdArg::kOptionalId, &Watch}},
+      {"trials", {IdArg::kOptionalId, &RunTrials}},
+      {"push", {IdArg::kOneId, &RunPush}},
+      {"recordings", {IdArg::kOptionalId, &RunRecordings}},
+      {"fetch-recording", {IdArg::kOneId, &RunFetchRecording}},
+      {"delete-recording", {IdArg::kOneId, &RunDeleteRecording}},
   };
   const auto it = commands.find(name);
   return it == commands.end() ? nullptr : &it->second;
@@ -320,6 +331,7 @@ void AddCommandFlags(const std::string& command, hapsim::common::Flags* f, Comma
     f->Add("count", &c->count, "stop after this many updates (empty: until Ctrl-C)");
   }
   if (command == "trials") f->Add("csv", &c->csv, "write the CSV to this file (empty: stdout)");
+  if (command == "fetch-recording") f->Add("output", &c->output, "write it to this file (empty: its name in the id)");
 }
 
 }  // namespace hapsim::ctl

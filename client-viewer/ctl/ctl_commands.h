@@ -15,7 +15,7 @@ namespace hapsim::ctl {
 
 // A command's own flags (all optional strings; each command checks what it needs).
 struct CommandFlags {
-  std::string id, scene, owner, obj, export_file, indicators, expert, rate_hz, count, csv;
+  std::string id, scene, owner, obj, export_file, indicators, expert, rate_hz, count, csv, output;
   std::vector<std::string> params;
 };
 
@@ -42,6 +42,11 @@ struct Command {
 const Command* FindCommand(const std::string& name);
 // Declares the command's own flags into *c.
 void AddCommandFlags(const std::string& command, hapsim::common::Flags* f, CommandFlags* c);
+
+// The trial-recording commands (ctl_recordings.cpp).
+int RunRecordings(CommandCall& call);
+int RunFetchRecording(CommandCall& call);
+int RunDeleteRecording(CommandCall& call);
 
 // "hapsim-ctl: MESSAGE (CODE)" on stderr; returns 1.
 int ReportFailure(const grpc::Status& status);

@@ -38,6 +38,9 @@ constexpr const char* kUsage =
     "                                      restart every session of CLASS with this scene (same ids, trainees)\n"
     "  trials [CLASS] [--csv FILE]          every trial's automatic metrics (depth error, layers, peak forces,\n"
     "                                      incision, line deviation, score) as CSV, to stdout or FILE\n"
+    "  recordings [SESSION]                the trial recordings the caller may see (server with --data-dir)\n"
+    "  fetch-recording ID [--output FILE]  download one, to replay with `hapsim-replay FILE`\n"
+    "  delete-recording ID                 delete one (instructors; not a running trial's)\n"
     "  health                              gRPC health check (exit 0 when SERVING)\n"
     "`hapsim-ctl COMMAND --help` lists a command's own flags.";
 
@@ -95,7 +98,9 @@ int CheckIds(const std::string& command, IdArg id_arg, const std::vector<std::st
   }
   if (id_arg == IdArg::kOneId && ids.empty()) {
     std::fprintf(stderr, "hapsim-ctl: %s needs a %s\n", command.c_str(),
-                 command == "push" ? "class name" : "session id");
+                 command == "push"                                ? "class name"
+                 : command.find("recording") != std::string::npos ? "recording id"
+                                                                  : "session id");
     return 2;
   }
   return kGoOn;

@@ -5,8 +5,10 @@
 // cleanly; a one-line-per-session summary goes to stdout at exit.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <asio/io_context.hpp>
 #include <asio/signal_set.hpp>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -27,6 +29,10 @@ bool CreateStartupSessions(hapsim::service::SessionRegistry& registry, const std
     const auto colon = item.find(':');
     const std::string id = item.substr(0, colon);
     const std::string scene = colon == std::string::npos ? "tissue_block" : item.substr(colon + 1);
+    if (registry.Find(id)) {  // brought back from the data directory
+      spdlog::info("session '{}' of --sessions runs already (brought back from the data directory)", id);
+      continue;
+    }
     try {
       registry.Create(id, scene, "", {});
     } catch (const std::exception& e) {
@@ -77,7 +83,9 @@ void PrintHelp(const hapsim::common::Flags& flags) {
 
 // Flags that ServerOptions holds in other units, or that only main uses.
 struct ServerFlags {
-  std::string log_level = "info", sessions, dds_config, port_file, class_config;
+  std::string log_level = "info", sessions, dds_config, port_file, class_config, data_dir, record = "class";
+  double recording_flush_ms = 50.0, recording_fsync_ms = 0.0, checkpoint_every_s = 1.0, retention_days = 90.0;
+  bool database_fsync = false;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
   double pose_extrapolation_ms = 100.0, model_deadband = 0.07, model_keepalive_ms = 25.0;
   int dds_domain = 0, max_sessions = 64;
@@ -97,6 +105,20 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("tls-key", &options->tls_key_file, "the PEM private key of --tls-cert");
   flags.Add("tls-client-ca", &options->tls_client_ca_file,
             "require client certificates signed by this PEM CA (with --tls-cert/--tls-key)");
+  flags.Add("data-dir", &f->data_dir,
+            "keep trials, scores, trial recordings and the live sessions here, and bring them back at start\n"
+            "(docs/recording.md). Empty: nothing outlives the process");
+  flags.Add("record", &f->record,
+            "with --data-dir, whose trials are recorded: class (the class config's sessions), all, none");
+  flags.Add("recording-flush-ms", &f->recording_flush_ms,
+            "recorded ticks reach the OS at least this often: what a crash of the server can lose [ms]");
+  flags.Add("recording-fsync-ms", &f->recording_fsync_ms,
+            "also fsync recordings this often, so a power loss loses at most this much [ms] (0: never)");
+  flags.Add("checkpoint-every-s", &f->checkpoint_every_s,
+            "a recorded state hash every this much of a trial [s] (a replay is checked at each)");
+  flags.Add("retention-days", &f->retention_days, "delete closed recordings older than this [days] (0: keep all)");
+  flags.Add("database-fsync", &f->database_fsync,
+            "commit the results database with a full fsync (survives a power loss; slower)");
   flags.Add("tick-hz", &f->tick_hz, "physics tick rate of every session [Hz]");
   flags.Add("frame-rate-hz", &options->sessions.frame_rate_hz, "viewer frame rate [Hz]");
   flags.Add("max-sessions", &f->max_sessions, "refuse to create more sessions than this");
@@ -154,6 +176,10 @@ bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptio
       {f.model_keepalive_ms > 0.0 && f.model_keepalive_ms <= f.pose_timeout_ms, "--model-keepalive-ms",
        "(0, --pose-timeout-ms]"},
       {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
+      {f.recording_flush_ms >= 1.0 && f.recording_flush_ms <= 10000.0, "--recording-flush-ms", "[1, 10000]"},
+      {f.recording_fsync_ms >= 0.0 && f.recording_fsync_ms <= 3.6e6, "--recording-fsync-ms", "[0, 3600000]"},
+      {f.checkpoint_every_s >= 0.001 && f.checkpoint_every_s <= 600.0, "--checkpoint-every-s", "[0.001, 600]"},
+      {f.retention_days >= 0.0 && f.retention_days <= 36500.0, "--retention-days", "[0, 36500]"},
       {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
       {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz",
        "(0, 1000]"},
@@ -178,6 +204,21 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
   options->quantum_m = f.quantum_mm * 1e-3;
   options->dds.domain_id = static_cast<std::uint32_t>(f.dds_domain);
   options->dds.config_file = f.dds_config;
+  if (!f.data_dir.empty()) {
+    hapsim::service::PersistenceOptions p;
+    p.data_dir = f.data_dir;
+    if (!hapsim::service::ParseRecordPolicy(f.record, &p.record)) {
+      std::fprintf(stderr, "hapsim-server: --record must be class, all or none (not '%s')\n", f.record.c_str());
+      return false;
+    }
+    p.recording.flush_interval_ms = static_cast<std::int64_t>(f.recording_flush_ms);
+    p.recording.fsync_interval_ms = static_cast<std::int64_t>(f.recording_fsync_ms);
+    p.recording.checkpoint_every_ticks =
+        static_cast<std::uint32_t>(std::max(1.0, std::round(f.checkpoint_every_s * f.tick_hz)));
+    p.retention_days = f.retention_days;
+    p.fsync_database = f.database_fsync;
+    options->persistence = p;
+  }
   if (!f.class_config.empty()) {
     try {
       options->classes = hapsim::service::LoadClassConfig(f.class_config);

@@ -18,12 +18,14 @@ using grpc::Status;
 using grpc::StatusCode;
 
 SessionServiceImpl::SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
-                                       const AccessPolicy* policy, std::uint32_t dds_domain, const TrialBook* trials)
+                                       const AccessPolicy* policy, std::uint32_t dds_domain, const TrialBook* trials,
+                                       ResultsStore* store, std::string recordings_dir)
     : registry_(registry),
       hub_(hub),
       policy_(policy ? policy : &OpenAccessPolicy()),
       dds_domain_(dds_domain),
-      classroom_(registry, hub, scores, policy, trials) {}
+      classroom_(registry, hub, scores, policy, trials),
+      recordings_(store, std::move(recordings_dir), policy) {}
 
 std::optional<Principal> SessionServiceImpl::Caller(const grpc::ServerContext* context) const {
   return AuthenticateCall(*policy_, context);

@@ -69,6 +69,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   StartGrpc(o, credentials);
   if (!o.metrics_listen_address.empty()) StartMetrics(o.metrics_listen_address);
   dds_->Start(registry_.get(), pool_.get());
+  if (persistence_) BringBack();
   pump_->Start();
   if (o.classes) CreateClassSessions(*o.classes);
   LogServerListening(o, bound_port_);
@@ -80,11 +81,17 @@ void ServerApp::AssembleParts(const ServerOptions& o) {
                dds_->instance());
   pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
   spdlog::info("tick pool: {} workers", pool_->workers());
-  registry_ = std::make_unique<SessionRegistry>(o.sessions, pool_.get(), dds_.get(), &viewers_, FollowTrials(&policy_));
-  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_,
-                                      [this](const SessionTable& sessions) { trials_.Observe(sessions); });
-  session_service_ =
-      std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_);
+  if (o.persistence) persistence_ = std::make_unique<Persistence>(*o.persistence, &policy_, &viewers_);
+  registry_ = std::make_unique<SessionRegistry>(
+      o.sessions, pool_.get(), dds_.get(), persistence_ ? static_cast<SessionListener*>(persistence_.get()) : &viewers_,
+      persistence_ ? persistence_->ListenerFactory() : FollowTrials(&policy_));
+  pump_ = std::make_unique<FramePump>(registry_.get(), &viewers_, [this](const SessionTable& sessions) {
+    trials_.Observe(sessions);
+    if (persistence_) persistence_->MaybeApplyRetention();
+  });
+  session_service_ = std::make_unique<SessionServiceImpl>(
+      registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_,
+      persistence_ ? &persistence_->store() : nullptr, persistence_ ? persistence_->recordings_dir() : std::string());
   viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m, &policy_);
 }
 
@@ -116,11 +123,22 @@ void ServerApp::StartMetrics(const std::string& listen_address) {
   spdlog::info("metrics at http://{}/metrics (port {})", listen_address, metrics_->bound_port());
 }
 
+void ServerApp::BringBack() {
+  try {
+    persistence_->BringBack(*registry_, trials_, scores_);
+  } catch (const std::exception& e) {
+    Shutdown();
+    throw std::runtime_error(std::string("cannot bring back the data directory's sessions: ") + e.what());
+  }
+}
+
 void ServerApp::CreateClassSessions(const ClassConfig& classes) {
   for (const auto& warning : classes.warnings) spdlog::warn("class config: {}", warning);
   try {
     for (const auto& cls : classes.classes) {
-      for (const auto& s : cls.sessions) registry_->Create(s.id, s.scene, s.trainee, {});
+      for (const auto& s : cls.sessions) {
+        if (!registry_->Find(s.id)) registry_->Create(s.id, s.scene, s.trainee, {});  // else: brought back
+      }
       spdlog::info("class '{}': {} sessions", cls.name, cls.sessions.size());
     }
   } catch (const std::exception& e) {
@@ -137,6 +155,9 @@ void ServerApp::Shutdown() {
   metrics_.reset();  // no scrape reads the registry while it closes
   session_service_->Stop();  // class views end before the gRPC server waits for its calls
   pump_->Stop();
+  // What is recorded so far is written before the sessions close, so their
+  // trials stay open and a restarted server brings them back.
+  if (persistence_) persistence_->Stop();
   registry_->CloseAll();  // stops ticks and ends every viewer stream
   server_->Shutdown(std::chrono::system_clock::now() + std::chrono::seconds(2));
   server_->Wait();

@@ -46,6 +46,12 @@ void ScoreBook::Submit(const std::string& session_id, const std::string& scene, 
   }
   if (expert.size() > 128) throw ServiceError(ErrorCode::kInvalidArgument, "expert name longer than 128 characters");
   const std::string name = expert.empty() ? "anonymous" : expert;
+  AddSheet(session_id, scene, name, indicators);
+  if (observer_) observer_(session_id, scene, name, indicators);
+}
+
+void ScoreBook::AddSheet(const std::string& session_id, const std::string& scene, const std::string& name,
+                         const std::vector<double>& indicators) {
   std::lock_guard lock(mutex_);
   auto session = sheets_.find(session_id);
   if (session == sheets_.end() && sheets_.size() >= kMaxScoredSessions) {

@@ -26,7 +26,7 @@ void SessionTrials::OnTick(const TickOutcome& tick) {
   tracker_.OnTick(t);
 }
 
-SessionTrials* TrialsOf(const Session& session) { return dynamic_cast<SessionTrials*>(session.tick_listener()); }
+SessionTrials* TrialsOf(const Session& session) { return FindTickListener<SessionTrials>(session.tick_listener()); }
 
 TickListenerFactory FollowTrials(const AccessPolicy* policy) {
   return [policy](const SessionConfig& config) -> std::shared_ptr<TickListener> {

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <set>
 
+#include "hapsim/common/clock.h"
+
 namespace hapsim::service {
 
 TrialRecord TrialBook::Describe(const Session& session, const SessionTrials& trials, const TrialStats& stats,
@@ -20,7 +22,20 @@ TrialRecord TrialBook::Describe(const Session& session, const SessionTrials& tri
   return r;
 }
 
+void TrialBook::SetSink(std::function<void(const TrialRecord&)> sink, double running_every_s) {
+  std::lock_guard lock(mutex_);
+  sink_ = std::move(sink);
+  sink_running_every_ns_ = static_cast<std::int64_t>(running_every_s * 1e9);
+}
+
+void TrialBook::Preload(std::vector<TrialRecord> ended) {
+  std::lock_guard lock(mutex_);
+  for (auto& r : ended) ended_.push_back(std::move(r));
+  while (ended_.size() > kMaxTrials) ended_.pop_front();
+}
+
 void TrialBook::AddEndedLocked(TrialRecord record) {
+  if (sink_) sink_(record);
   ended_.push_back(std::move(record));
   while (ended_.size() > kMaxTrials) ended_.pop_front();
 }
@@ -38,7 +53,14 @@ void TrialBook::Observe(const SessionTable& sessions) {
     }
     TrialStats stats;
     if (trials->TakeFinished(&stats)) AddEndedLocked(Describe(*session, *trials, stats, "reset"));
-    if (trials->TakeRunning(&stats)) it->second.record.stats = stats;
+    if (trials->TakeRunning(&stats)) {
+      it->second.record.stats = stats;
+      const std::int64_t now_ns = common::SteadyNowNs();
+      if (sink_ && now_ns - it->second.sunk_ns >= sink_running_every_ns_) {
+        it->second.sunk_ns = now_ns;
+        sink_(it->second.record);
+      }
+    }
   }
   for (auto it = running_.begin(); it != running_.end();) {
     if (present.count(it->first)) {

@@ -40,6 +40,8 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
                                               scene_->Topology().Log().Capacity()}
                         : SnapshotRing::Sizes{}) {
   if (!scene_) throw std::invalid_argument("session needs a scene");
+  tick_index_ = config_.first_tick;
+  paused_.store(config_.start_paused);
   if (!port_) throw std::invalid_argument("session needs a port");
   if (!(config_.tick_period_s > 0.0 && config_.tick_period_s <= 0.1)) {
     throw std::invalid_argument("tick period must be in (0, 0.1] s");

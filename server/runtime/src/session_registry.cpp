@@ -32,11 +32,24 @@ void SessionRegistry::PublishTableLocked() {
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
                                                  std::map<std::string, double> params) {
+  return CreateOrRestore(std::move(id), std::move(scene), std::move(owner), std::move(params), {});
+}
+
+std::shared_ptr<Session> SessionRegistry::Restore(std::string id, std::string scene_name, std::string owner,
+                                                  std::map<std::string, double> params,
+                                                  std::unique_ptr<core::Scene> scene, std::uint64_t first_tick,
+                                                  bool paused) {
+  return CreateOrRestore(std::move(id), std::move(scene_name), std::move(owner), std::move(params),
+                         Restored{std::move(scene), first_tick, paused});
+}
+
+std::shared_ptr<Session> SessionRegistry::CreateOrRestore(std::string id, std::string scene, std::string owner,
+                                                          std::map<std::string, double> params, Restored restored) {
   id = Reserve(std::move(id), owner);
   std::shared_ptr<Session> session;
   const std::string scene_name = scene.empty() ? "tissue_block" : scene;
   try {  // no lock held: other sessions keep ticking and routing poses
-    session = Build(id, std::move(scene), std::move(owner), std::move(params));
+    session = Build(id, std::move(scene), std::move(owner), std::move(params), std::move(restored));
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
@@ -79,7 +92,7 @@ std::string SessionRegistry::Reserve(std::string id, const std::string& owner) {
 }
 
 std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::string scene, std::string owner,
-                                                std::map<std::string, double> params) {
+                                                std::map<std::string, double> params, Restored restored) {
   std::shared_ptr<Session> session;
   SessionConfig config;
   config.id = id;
@@ -92,11 +105,13 @@ std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::stri
   config.pose_slack_s = defaults_.pose_slack_s;
   config.pose_extrapolation_s = defaults_.pose_extrapolation_s;
   config.model_deadband = defaults_.model_deadband;
+  config.first_tick = restored.first_tick;
+  config.start_paused = restored.paused;
   // The scene and the session's first-touched buffers, at low priority;
   // the DDS endpoints only once the scene built (a failed build leaves no
   // writer in the session's partition for another server to see).
   RunAtLowPriority([&] {
-    auto built = core::MakeScene({config.scene, config.params});
+    auto built = restored.scene ? std::move(restored.scene) : core::MakeScene({config.scene, config.params});
     auto port = transport_->Open(config.id);
     auto tick_listener = tick_listeners_ ? tick_listeners_(config) : nullptr;
     session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port), std::move(tick_listener));

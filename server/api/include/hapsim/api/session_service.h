@@ -7,8 +7,10 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "hapsim/api/classroom_calls.h"
+#include "hapsim/api/recording_calls.h"
 #include "hapsim/classroom/access_policy.h"
 #include "hapsim/classroom/score_book.h"
 #include "hapsim/classroom/trial_book.h"
@@ -24,7 +26,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   // JoinSession tells devices.
   SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
                      const AccessPolicy* policy = nullptr, std::uint32_t dds_domain = 0,
-                     const TrialBook* trials = nullptr);
+                     const TrialBook* trials = nullptr, ResultsStore* store = nullptr, std::string recordings_dir = {});
 
   // Ends every WatchClass stream (OK status) and refuses new ones; called
   // before the gRPC server shuts down so no handler thread outlives it.
@@ -71,6 +73,18 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
                          hapsim::v1::TrialReport* out) override {
     return classroom_.GetTrials(c, req, out);
   }
+  grpc::Status ListRecordings(grpc::ServerContext* c, const hapsim::v1::RecordingQuery* req,
+                              hapsim::v1::RecordingList* out) override {
+    return recordings_.ListRecordings(c, req, out);
+  }
+  grpc::Status GetRecording(grpc::ServerContext* c, const hapsim::v1::RecordingRef* req,
+                            grpc::ServerWriter<hapsim::v1::RecordingChunk>* writer) override {
+    return recordings_.GetRecordingOn(c, req, writer);
+  }
+  grpc::Status DeleteRecording(grpc::ServerContext* c, const hapsim::v1::RecordingRef* req,
+                               hapsim::v1::DeleteRecordingResponse* out) override {
+    return recordings_.DeleteRecording(c, req, out);
+  }
 
   static constexpr int kMaxWatchStreams = ClassroomCalls::kMaxWatchStreams;
 
@@ -81,6 +95,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   const AccessPolicy* policy_;
   std::uint32_t dds_domain_;
   ClassroomCalls classroom_;
+  RecordingCalls recordings_;
 };
 
 // Fills a SessionInfo from a session's counters.

@@ -11,6 +11,7 @@
 #include "hapsim/api/metrics.h"
 #include "hapsim/api/session_service.h"
 #include "hapsim/api/viewer_service.h"
+#include "hapsim/app/persistence.h"
 #include "hapsim/classroom/access_policy.h"
 #include "hapsim/classroom/score_book.h"
 #include "hapsim/classroom/session_trials.h"
@@ -38,6 +39,10 @@ struct ServerOptions {
   // TLS: PEM files. Both cert and key, or neither (plain TCP). With
   // client_ca_file, clients must present a certificate signed by that CA.
   std::string tls_cert_file, tls_key_file, tls_client_ca_file;
+  // The data directory: trials, scores, recordings and the live sessions
+  // kept and brought back at start (persistence.h). None: nothing outlives
+  // the process.
+  std::optional<PersistenceOptions> persistence;
 };
 
 // True for addresses only this machine reaches (127.x, ::1, localhost).
@@ -55,6 +60,7 @@ class ServerApp {
   const TickPool& pool() const { return *pool_; }
   const AccessPolicy& policy() const { return policy_; }
   const TrialBook& trials() const { return trials_; }
+  Persistence* persistence() { return persistence_.get(); }  // nullptr: no data directory
   int bound_port() const { return bound_port_; }
   int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
@@ -67,11 +73,13 @@ class ServerApp {
   void AssembleParts(const ServerOptions& options);
   void StartGrpc(const ServerOptions& options, const std::shared_ptr<grpc::ServerCredentials>& credentials);
   void StartMetrics(const std::string& listen_address);
+  void BringBack();  // the data directory's trials, scores and sessions
   void CreateClassSessions(const ClassConfig& classes);
 
   std::unique_ptr<TickPool> pool_;  // declared first: destroyed after everything that wakes it
   std::unique_ptr<ServerDds> dds_;
   ViewerHub viewers_;  // before the registry, which tells it of every close
+  std::unique_ptr<Persistence> persistence_;  // before the registry, which tells it of every close
   std::unique_ptr<SessionRegistry> registry_;
   std::unique_ptr<FramePump> pump_;
   ScoreBook scores_;

@@ -73,6 +73,13 @@ class ScoreBook {
   ScoreReport Report(const std::string& session_id, const std::function<bool(const std::string&)>& visible = {}) const;
   bool Scored(const std::string& session_id) const;  // has at least one sheet
 
+  // Told of every sheet Submit() accepted (to keep it in the results
+  // database), on the submitting thread after the book's lock is released;
+  // must not block. Set before any Submit().
+  using SheetObserver = std::function<void(const std::string& session_id, const std::string& scene,
+                                           const std::string& expert, const std::vector<double>& indicators)>;
+  void SetObserver(SheetObserver observer) { observer_ = std::move(observer); }
+
   struct Summary {
     std::uint32_t experts = 0;
     double score = 0.0;
@@ -85,8 +92,12 @@ class ScoreBook {
     std::map<std::string, std::vector<double>> by_expert;
   };
   SessionScoreSheet Describe(const std::string& id, const Sheets& sheets) const;
+  // Submit()'s part under the lock (the values already checked).
+  void AddSheet(const std::string& session_id, const std::string& scene, const std::string& name,
+                const std::vector<double>& indicators);
 
   Eigen::VectorXd vessel_weights_;  // global AHP weights (9)
+  SheetObserver observer_;
   mutable std::mutex mutex_;
   std::map<std::string, Sheets> sheets_;
 };

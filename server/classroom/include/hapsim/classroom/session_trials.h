@@ -17,7 +17,7 @@ namespace hapsim::service {
 
 class SessionTrials final : public TickListener {
  public:
-  explicit SessionTrials(TrialTargets targets = {}) : tracker_(targets) {}
+  explicit SessionTrials(TrialTargets targets = {}, std::uint64_t first_trial = 0) : tracker_(targets, first_trial) {}
 
   // Tick worker.
   void OnTick(const TickOutcome& tick) override;

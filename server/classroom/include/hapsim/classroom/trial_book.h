@@ -5,7 +5,9 @@
 // a session gone from the table ends its running trial ("closed").
 // Bounded: the oldest ended trials are dropped beyond kMaxTrials.
 #pragma once
+#include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -23,7 +25,7 @@ struct TrialRecord {
   std::vector<std::string> layer_names;
   TrialTargets targets;
   TrialStats stats;
-  std::string end;  // "reset", "closed" or "running"
+  std::string end;  // "reset", "closed", "running", or "interrupted" (the server stopped and did not bring it back)
 };
 
 class TrialBook {
@@ -33,6 +35,14 @@ class TrialBook {
   // Frame pump thread only (a FramePump pass listener).
   void Observe(const SessionTable& sessions);
 
+  // Where trials go to be kept (the results database): every ended trial,
+  // and each running one at most once per `running_every_s`. Called on the
+  // frame pump's thread; must not block. Set before the pump starts.
+  void SetSink(std::function<void(const TrialRecord&)> sink, double running_every_s = 1.0);
+  // Trials of earlier server runs (from the database), oldest first, shown
+  // as ended ones. Call before the pump starts.
+  void Preload(std::vector<TrialRecord> ended);
+
   // Any thread: ended trials, then the running ones, of the sessions
   // `include` accepts (all when empty), in session-id then trial order.
   std::vector<TrialRecord> Trials(const std::function<bool(const std::string&)>& include = {}) const;
@@ -41,6 +51,7 @@ class TrialBook {
   struct Running {
     std::shared_ptr<Session> session;
     TrialRecord record;
+    std::int64_t sunk_ns = 0;  // when the sink last had this trial
   };
   static TrialRecord Describe(const Session& session, const SessionTrials& trials, const TrialStats& stats,
                               const char* end);
@@ -49,6 +60,8 @@ class TrialBook {
   mutable std::mutex mutex_;
   std::map<const Session*, Running> running_;
   std::deque<TrialRecord> ended_;
+  std::function<void(const TrialRecord&)> sink_;
+  std::int64_t sink_running_every_ns_ = 1'000'000'000;
 };
 
 // CSV, one row per trial; `score_of` (may be empty) gives a session's

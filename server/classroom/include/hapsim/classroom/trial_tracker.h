@@ -70,7 +70,11 @@ struct TrialTick {
 
 class TrialTracker {
  public:
-  explicit TrialTracker(TrialTargets targets = {}) : targets_(targets) {}
+  // first_trial: the number of the trial that starts now (a session brought
+  // back after a restart goes on counting from its recording's trial).
+  explicit TrialTracker(TrialTargets targets = {}, std::uint64_t first_trial = 0) : targets_(targets) {
+    stats_.trial = first_trial;
+  }
   const TrialTargets& targets() const { return targets_; }
   const TrialStats& stats() const { return stats_; }
   void OnTick(const TrialTick& tick);

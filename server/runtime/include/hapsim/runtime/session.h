@@ -57,6 +57,10 @@ struct SessionConfig {
   // Force models go out when the device would feel a change (ModelDeadband;
   // jnd 0: every tick).
   ModelDeadbandConfig model_deadband;
+  // Where the tick count starts, and whether the tissue starts frozen: a
+  // session restored after a server restart goes on from its recording.
+  std::uint64_t first_tick = 0;
+  bool start_paused = false;
 };
 
 // A pose accepted by the DDS thread.

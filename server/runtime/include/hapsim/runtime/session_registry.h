@@ -66,6 +66,12 @@ class SessionRegistry {
   // (also while a session of that id is being built), kResourceExhausted.
   std::shared_ptr<Session> Create(std::string id, std::string scene, std::string owner,
                                   std::map<std::string, double> params);
+  // Brings back a session after a server restart: as Create, but with its
+  // scene already in the state its recording reached, its tick count going
+  // on from `first_tick`, and paused if it was.
+  std::shared_ptr<Session> Restore(std::string id, std::string scene_name, std::string owner,
+                                   std::map<std::string, double> params, std::unique_ptr<core::Scene> scene,
+                                   std::uint64_t first_tick, bool paused);
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
   // Stops the session's ticks and poses, then tells the listener. Throws kNotFound.
@@ -79,8 +85,15 @@ class SessionRegistry {
   // Create's three steps: reserve the id (brief lock; a generated one if
   // empty), build the session with no lock held, publish it in the table.
   std::string Reserve(std::string id, const std::string& owner);
+  struct Restored {
+    std::unique_ptr<core::Scene> scene;  // nullptr: build a fresh one
+    std::uint64_t first_tick = 0;
+    bool paused = false;
+  };
+  std::shared_ptr<Session> CreateOrRestore(std::string id, std::string scene, std::string owner,
+                                           std::map<std::string, double> params, Restored restored);
   std::shared_ptr<Session> Build(const std::string& id, std::string scene, std::string owner,
-                                 std::map<std::string, double> params);
+                                 std::map<std::string, double> params, Restored restored);
   void Publish(const std::string& id, const std::shared_ptr<Session>& session);
   void PublishTableLocked();
   void Shut(Session& session, CloseReason why);

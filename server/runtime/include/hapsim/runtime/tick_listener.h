@@ -4,6 +4,9 @@
 // tick worker: it must not block, and after its first tick it must not
 // allocate (the 1 kHz loop allocates nothing).
 #pragma once
+#include <memory>
+#include <vector>
+
 #include "hapsim/core/haptics/local_force_model.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/runtime/tick_input.h"
@@ -27,5 +30,35 @@ class TickListener {
   // (at the frame rate): the moment to publish what the listener keeps.
   virtual void OnSnapshotPublished() {}
 };
+
+// Several listeners behind one session (the trials and the recorder), called
+// in order.
+class TickListenerList final : public TickListener {
+ public:
+  explicit TickListenerList(std::vector<std::shared_ptr<TickListener>> listeners) : listeners_(std::move(listeners)) {}
+  void OnTick(const TickOutcome& tick) override {
+    for (const auto& l : listeners_) l->OnTick(tick);
+  }
+  void OnSnapshotPublished() override {
+    for (const auto& l : listeners_) l->OnSnapshotPublished();
+  }
+  const std::vector<std::shared_ptr<TickListener>>& listeners() const { return listeners_; }
+
+ private:
+  std::vector<std::shared_ptr<TickListener>> listeners_;
+};
+
+// The listener of type T a session follows its ticks with: `listener`
+// itself, or one in its list; nullptr when there is none.
+template <typename T>
+T* FindTickListener(TickListener* listener) {
+  if (auto* found = dynamic_cast<T*>(listener)) return found;
+  if (auto* list = dynamic_cast<TickListenerList*>(listener)) {
+    for (const auto& l : list->listeners()) {
+      if (auto* found = dynamic_cast<T*>(l.get())) return found;
+    }
+  }
+  return nullptr;
+}
 
 }  // namespace hapsim::service

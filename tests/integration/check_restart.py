@@ -1,0 +1,99 @@
+"""Checks of restart.sh: a server killed mid-class comes back with its
+sessions, trials, scores and recordings; every recording replays exactly."""
+import glob
+import os
+import re
+import sys
+
+from checks import check, exit_code, finish, read_text
+
+work, server_rc = sys.argv[1], int(sys.argv[2])
+
+
+def info_field(text, key):
+    m = re.search(rf"{key}=([-0-9.]+)", text)
+    return float(m.group(1)) if m else None
+
+
+def replay_of(path):
+    """(ticks, seconds of trial, checkpoints matched, recorded, resumes, speed x) of a hapsim-replay output."""
+    text = read_text(work, path)
+    m = re.search(r"replayed (\d+) ticks \(([0-9.]+) s of the trial\) in ([0-9.]+) s: ([0-9.]+)x", text)
+    c = re.search(r"checkpoints: (\d+) of (\d+)", text)
+    r = re.search(r"restarted (\d+) time", text)
+    return (int(m.group(1)), float(m.group(2)), int(c.group(1)), int(c.group(2)), int(r.group(1)) if r else 0,
+            float(m.group(4))) if m and c else None
+
+
+log1 = read_text(work, "server1.log")
+log2 = read_text(work, "server2.log")
+check(exit_code(work, "reset_t1") == 0 and exit_code(work, "score1") == 0, "the instructor reset and scored t1")
+check("brought back 3 of 3 sessions" in log2, "the second server says it brought back all 3 sessions")
+for line in re.findall(r"session 't\d' brought back at tick .*", log2):
+    print("  " + line)
+listed = read_text(work, "list_after.out")
+check(all(f"t{k} " in listed for k in (1, 2, 3)), "t1..t3 run again after the restart")
+
+# State: the session went on from its recorded state.
+info_before = read_text(work, "info_before.out")
+sim_before = info_field(info_before, "sim_time_s")
+t_info_end = float(read_text(work, "info_end_time"))
+t_kill = float(read_text(work, "kill_time"))
+replays_killed = {os.path.basename(f): f for f in glob.glob(f"{work}/replay_data_after_kill_*.out")}
+t2_killed = [f for f in replays_killed if "_t2_" in f]
+check(len(t2_killed) == 1, f"t2's recording as the kill left it ({t2_killed})")
+if t2_killed:
+    r = replay_of(t2_killed[0])
+    check(r is not None and r[2] == r[3] and r[3] > 0, f"it replays to all its checkpoints ({r})")
+    if r and sim_before is not None:
+        recorded_s = r[1]
+        # The session ticked at least until the info call returned, then on until the kill.
+        lost_s = sim_before + (t_kill - t_info_end) - recorded_s
+        print(f"t2: sim time at info {sim_before:.3f} s, recorded up to {recorded_s:.3f} s, "
+              f"kill {1e3 * (t_kill - t_info_end):.0f} ms after the info call: lost <= {1e3 * lost_s:.0f} ms")
+        check(lost_s <= 0.100, f"the kill lost <= 100 ms of t2's inputs ({1e3 * lost_s:.0f} ms)")
+        early = info_field(read_text(work, "info_t2_early.out"), "sim_time_s")
+        check(early is not None and early >= recorded_s,
+              f"after the restart t2 went on from its recorded sim time ({early} >= {recorded_s:.3f} s)")
+info_after = read_text(work, "info_after.out")
+check(info_field(info_after, "device_streaming") == 1 and (info_field(info_after, "device_clocked_ticks") or 0) > 50,
+      f"t2's device drove it again after the restart ({info_after.split()[6:12]})")
+
+# Trials and scores from the database.
+def trial_rows(name):
+    rows = [line.split(",") for line in read_text(work, name).strip().splitlines()[1:]]
+    return {(r[0], r[3]): r for r in rows}
+
+before, after = trial_rows("trials_before.csv"), trial_rows("trials_after.csv")
+t1_0_before, t1_0_after = before.get(("t1", "0")), after.get(("t1", "0"))
+check(t1_0_before is not None and t1_0_before[4] == "reset", "before the kill: t1's trial 0 ended by the reset")
+check(t1_0_after == t1_0_before, f"after the restart the same row comes back ({t1_0_after})")
+check(("t1", "1") in after and ("t2", "0") in after, "t1's trial 1 and t2's trial 0 are listed after the restart")
+scores_before = read_text(work, "scores_before.out")
+scores_after = read_text(work, "scores_after.out")
+check("t1" in scores_before and scores_before == scores_after, "the scores came back identical")
+
+# Recordings: listed by role, fetched, replayed.
+recordings = read_text(work, "recordings.out")
+ids = [line.split()[0] for line in recordings.strip().splitlines()[1:]]
+check(len(ids) == 4, f"4 recordings listed to the instructor (t1 trials 0 and 1, t2, t3): {ids}")
+own = read_text(work, "recordings_trainee2.out").strip().splitlines()[1:]
+check(len(own) == 1 and own[0].split()[1] == "t2", "trainee 2 sees only its own recording")
+check(exit_code(work, "recordings_other") != 0, "trainee 2 may not list t1's recordings")
+check(exit_code(work, "observer_delete") != 0, "an observer may not delete a recording")
+check(exit_code(work, "delete_running") != 0 and "running trial" in read_text(work, "delete_running.err"),
+      "a running trial's recording cannot be deleted")
+check(exit_code(work, "delete_t1_0") == 0, "an ended trial's recording can be deleted")
+check(len(read_text(work, "recordings_final.out").strip().splitlines()) == 4, "it is gone from the list")
+check(all(exit_code(work, f"fetch_t{k}_0") == 0 for k in (1, 2, 3)), "every recording fetched over gRPC")
+replays = sorted(glob.glob(f"{work}/replay_*.rc"))
+check(len(replays) >= 9, f"{len(replays)} replays run (4 on disk, 4 fetched, 3+ as the kill left them)")
+for rc in replays:
+    name = os.path.basename(rc)[:-3]
+    r = replay_of(f"{name}.out")
+    check(exit_code(work, name) == 0 and r is not None and r[2] == r[3] and r[3] > 0,
+          f"{name}: every checkpoint reached ({r})")
+resumed = [replay_of(f"{os.path.basename(rc)[:-3]}.out") for rc in replays if "data_recordings_t1" in rc]
+check(any(r and r[4] >= 1 for r in resumed), "t1's running trial spans the kill: it holds a resume mark")
+check(server_rc == 0, f"the second server exited 0 ({server_rc})")
+finish()
