@@ -46,6 +46,13 @@
 #                                    --model-deadband 0, as the earlier
 #                                    figures) or `deadband` (the shipped
 #                                    defaults: perceptual deadband coding)
+#   RECORDINGS [off]                 trial recording on the server, one series
+#                                    each, in this order: `off`, or `on`
+#                                    (--data-dir in the run's directory,
+#                                    --record all: every session recorded);
+#                                    repeat values to interleave runs, e.g.
+#                                    "off on off on" (recording's cost is a
+#                                    few % at most: compare means)
 #   LINKS [loopback]                 where the clients reach the server, one
 #                                    series each: `loopback` (127.0.0.1, the
 #                                    shipped loopback DDS config) or a link of
@@ -89,6 +96,7 @@ fi
 DDSPERF_S=${DDSPERF_S:-10}
 LINKS=${LINKS:-loopback}
 CODINGS=${CODINGS:-every}
+RECORDINGS=${RECORDINGS:-off}
 dds_uri=file://$root/deploy/cyclonedds-loopback.xml
 netlab="$root/netlab/netlab.sh"
 export HAPSIM_LINKEM="$bin/hapsim-linkem"
@@ -98,6 +106,7 @@ die() { echo "capacity.sh: $*" >&2; exit 2; }
 for n in $COUNTS; do [[ $n =~ ^[0-9]+$ && $n -ge 1 && $n -le 64 ]] || die "COUNTS: $n is not in 1..64"; done
 for m in $MODES; do [[ $m == load || $m == bridges ]] || die "MODES: unknown mode $m (load, bridges)"; done
 for c in $CODINGS; do [[ $c == every || $c == deadband ]] || die "CODINGS: unknown coding $c (every, deadband)"; done
+for r in $RECORDINGS; do [[ $r == off || $r == on ]] || die "RECORDINGS: $r is neither off nor on"; done
 for l in $LINKS; do
   [[ $l == loopback || $l =~ ^[a-z_]+=[0-9.]+(,[a-z_]+=[0-9.]+)*$ ]] ||
     die "LINKS: '$l' is neither loopback nor a link like delay_ms=5,loss=0.01"
@@ -174,8 +183,11 @@ background() {
 }
 # client DIR NAME: DIR/NAME if it exists, else this build's
 client() { if [ -x "$1/$2" ]; then echo "$1/$2"; else echo "$bin/$2"; fi; }
-snapshot() {  # snapshot PID SUFFIX: server CPU, UDP counters, wall clock
+snapshot() {  # snapshot PID SUFFIX: server CPU (and per named thread), UDP counters, wall clock
   cat "/proc/$1/stat" >"stat_$2.txt"
+  local task
+  for task in /proc/"$1"/task/*; do echo "$(cat "$task/comm" 2>/dev/null)|$(cat "$task/stat" 2>/dev/null)"; done \
+      >"threads_$2.txt" || true
   udp_counters "snmp_$2.txt"
   date +%s.%N >"wall_$2.txt"
   cut -d' ' -f1-3 /proc/loadavg >"loadavg_$2.txt"
@@ -198,11 +210,14 @@ coding_flags() {  # CODING server|clients
   if [ "$2" = server ]; then echo --model-deadband 0; else echo --pose-deadband-mm 0; fi
 }
 
-# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N [LINK] (and $coding)
+# run_one MODE LABEL SERVER_DIR CLIENT_DIR SCENE N [LINK] (and $coding, $recording, $recording_run)
 run_one() {
   local mode=$1 label=$2 server_dir=$3 client_dir=$4 scene=$5 n=$6 link=${7:-loopback}
   local dir="$out/runs/$mode-$label-$scene-$n${7:+-$7}"
   [ "$coding" = every ] || dir+="-$coding"
+  [ "$RECORDINGS" = off ] || dir+="-recording-$recording-$recording_run"
+  local recording_flags=()
+  [ "$recording" = off ] || recording_flags=(--data-dir "$dir/data" --record all)
   local server_coding client_coding
   read -ra server_coding <<<"$(coding_flags "$coding" server)"
   read -ra client_coding <<<"$(coding_flags "$coding" clients)"
@@ -217,12 +232,13 @@ run_one() {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
     echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
-    echo "coding=$coding"
+    echo "coding=$coding"; echo "recording=$recording"
   } >run.env
   background before
   place "$link"
   "${on_server[@]}" taskset -c 0 "$server_dir/hapsim-server" --listen "$server_ip:0" --port-file port \
-      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" >server.out 2>server.log &
+      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" "${recording_flags[@]}" \
+      >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
   if [ ! -s port ]; then
@@ -336,9 +352,12 @@ if [ -n "$BASELINE_BIN" ]; then
   RUN_S=$saved_run_s
   : >"$saved_runs"
 fi
+recording=off recording_run=0
 for link in $LINKS; do
  for coding in $CODINGS; do
   for mode in $MODES; do
+   for recording in $RECORDINGS; do
+    recording_run=$((recording_run + 1))
     for scene in $SCENES; do
       for n in $COUNTS; do
         # shellcheck disable=SC2046  # the link joins the run's name only in a lab
@@ -349,6 +368,7 @@ for link in $LINKS; do
         fi
       done
     done
+   done
   done
  done
 done

@@ -72,6 +72,26 @@ def cpu_seconds(path, clk_tck):
     return (int(rest[11]) + int(rest[12])) / clk_tck
 
 
+def thread_cpu_seconds(run_dir, clk_tck, names):
+    """CPU seconds the server's threads named in `names` used during the run (threads_*.txt: comm|stat lines)"""
+    def read(path):
+        cpu = {}
+        for line in open(path):
+            comm, _, stat = line.rstrip("\n").partition("|")
+            if comm in names and ")" in stat:
+                rest = stat.rsplit(")", 1)[1].split()
+                cpu[(comm, stat.split()[0])] = (int(rest[11]) + int(rest[12])) / clk_tck
+        return cpu
+    try:
+        before, after = read(f"{run_dir}/threads_before.txt"), read(f"{run_dir}/threads_after.txt")
+    except OSError:
+        return None
+    total = {}
+    for key, seconds in after.items():
+        total[key[0]] = total.get(key[0], 0.0) + seconds - before.get(key, 0.0)
+    return total
+
+
 def sessions(path):
     """hapsim-ctl list -> {session id: {field: value}} (the benchmark's cap-* sessions)"""
     table = {}
@@ -188,8 +208,14 @@ def run_row(run_dir):
     row = {k: env.get(k, "") for k in ("mode", "server", "scene", "n")}
     if env.get("coding", "every") != "every":
         row["server"] += f", {env['coding']} coding"
+    if env.get("recording", "off") == "on":
+        row["server"] += ", recording"
     row["server"] += link_label(env)
     row["emulator"] = emulator(run_dir)
+    row["recording_threads"] = None
+    if env.get("recording", "off") == "on":
+        row["recording_threads"] = thread_cpu_seconds(run_dir, int(env.get("clk_tck", 100)),
+                                                      ("hapsim-record", "hapsim-database"))
     row["failure"] = env.get("failure", "")
     background = [int(env[k]) for k in ("background_udp_per_s_before", "background_udp_per_s_after") if k in env]
     row["background_udp_per_s"] = max(background) if background else None
@@ -312,6 +338,16 @@ if lab_rows:
     print()
     for r in lab_rows:
         print(f"- link emulator, {r['mode']} / {r['server']} / {r['scene']} / N={r['n']}: {r['emulator']}")
+recorded = [r for r in rows if r.get("recording_threads") is not None and r.get("server_cpu_s")]
+if recorded:
+    print()
+    for r in recorded:
+        threads = r["recording_threads"]
+        spent = sum(threads.values())
+        per_tick = spent * 1e6 / r["session_ticks"] if r.get("session_ticks") else float("nan")
+        print(f"- recording, {r['mode']} / {r['scene']} / N={r['n']}: its writer threads used "
+              f"{100 * spent / r['server_cpu_s']:.2f} % of the server's CPU ({per_tick:.3f} µs per session-tick: "
+              + ", ".join(f"{k} {v:.3f} s" for k, v in sorted(threads.items())) + ")")
 marked = [r for r in rows if (r.get("background_udp_per_s") or 0) > BACKGROUND_LIMIT]
 if marked:
     print()

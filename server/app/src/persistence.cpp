@@ -194,7 +194,8 @@ std::vector<std::string> Persistence::BringBack(SessionRegistry& registry, Trial
   scores.SetObserver(
       [this](const std::string& session_id, const std::string& scene, const std::string& expert,
              const std::vector<double>& indicators) { store_->SaveScoreSheet(session_id, scene, expert, indicators); });
-  trials.SetSink([this](const TrialRecord& record) { SinkTrial(record); });
+  // A running trial's row at most 2 s behind (a recorded one is re-run exactly on restore anyway).
+  trials.SetSink([this](const TrialRecord& record) { SinkTrial(record); }, 2.0);
   if (policy_) {
     const std::int64_t now_ms = UnixNowMs();
     for (const auto& cls : policy_->config().classes) {

@@ -192,7 +192,14 @@ std::vector<std::uint8_t> EncodeRecord(RecordKind kind, std::uint64_t first_tick
   return out;
 }
 
-std::vector<std::uint8_t> EncodeTickBlock(std::span<const TickInput> ticks) {
+TickBlockEncoder::TickBlockEncoder() : context_(ZSTD_createCCtx()) {
+  if (!context_) throw std::bad_alloc();
+  ZSTD_CCtx_setParameter(context_, ZSTD_c_compressionLevel, kCompressionLevel);
+}
+
+TickBlockEncoder::~TickBlockEncoder() { ZSTD_freeCCtx(context_); }
+
+std::span<const std::uint8_t> TickBlockEncoder::Encode(std::span<const TickInput> ticks) {
   if (ticks.size() > kMaxTicksPerBlock) throw std::invalid_argument("too many ticks for one block");
   for (std::size_t i = 1; i < ticks.size(); ++i) {
     if (ticks[i].tick != ticks[0].tick + i) throw std::invalid_argument("a tick block's ticks must be consecutive");
@@ -202,30 +209,37 @@ std::vector<std::uint8_t> EncodeTickBlock(std::span<const TickInput> ticks) {
   // or steadily moving pose gives residuals near zero), zigzag-coded so small
   // negative residuals are small too, then byte plane by byte plane.
   const std::size_t n = ticks.size();
-  std::vector<std::uint8_t> raw(n * RawBytesPerTick());
+  raw_.resize(n * RawBytesPerTick());
+  residual_.resize(n);
   std::size_t at = 0;
   for (const Column& column : Columns()) {
     const std::uint64_t mask = ColumnMask(column);
-    std::vector<std::uint64_t> residual(n);
     std::uint64_t before = 0, previous = 0;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint64_t v = column.get(ticks[i]) & mask;
-      residual[i] = ZigZag((v - (2 * previous - before)) & mask, column.bytes);
+      residual_[i] = ZigZag((v - (2 * previous - before)) & mask, column.bytes);
       before = previous;
       previous = v;
     }
     for (std::size_t b = 0; b < column.bytes; ++b) {
-      for (std::size_t i = 0; i < n; ++i) raw[at++] = static_cast<std::uint8_t>((residual[i] >> (8 * b)) & 0xFFu);
+      for (std::size_t i = 0; i < n; ++i) raw_[at++] = static_cast<std::uint8_t>((residual_[i] >> (8 * b)) & 0xFFu);
     }
   }
-  std::vector<std::uint8_t> out;
-  PutRaw(&out, static_cast<std::uint32_t>(raw.size()));
-  const std::size_t header = out.size();
-  out.resize(header + ZSTD_compressBound(raw.size()));
-  const std::size_t written = ZSTD_compress(out.data() + header, out.size() - header, raw.data(), raw.size(), 3);
+  out_.clear();
+  PutRaw(&out_, static_cast<std::uint32_t>(raw_.size()));
+  const std::size_t header = out_.size();
+  out_.resize(header + ZSTD_compressBound(raw_.size()));
+  const std::size_t written =
+      ZSTD_compress2(context_, out_.data() + header, out_.size() - header, raw_.data(), raw_.size());
   if (ZSTD_isError(written)) throw std::runtime_error(std::string("zstd: ") + ZSTD_getErrorName(written));
-  out.resize(header + written);
-  return out;
+  out_.resize(header + written);
+  return out_;
+}
+
+std::vector<std::uint8_t> EncodeTickBlock(std::span<const TickInput> ticks) {
+  TickBlockEncoder encoder;
+  const auto payload = encoder.Encode(ticks);
+  return {payload.begin(), payload.end()};
 }
 
 std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, std::uint64_t first_tick,

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/recording/recording_reader.h"
 
 namespace hapsim::service {
@@ -14,6 +15,9 @@ std::int64_t UnixNowMs() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
+
+// How often the database's index hears how far an open trial's file has got.
+constexpr std::int64_t kProgressEveryMs = 5000;
 
 struct RecordingService::Track {
   std::shared_ptr<SessionRecorder> recorder;
@@ -91,6 +95,8 @@ RecordingStats RecordingService::stats() const {
 }
 
 void RecordingService::Run() {
+  common::NameThisThread("hapsim-record");
+  common::RunThisThreadOnlyWhenIdle();  // the ticks first: 4 s of queue absorb a busy spell
   std::unique_lock lock(mutex_);
   while (true) {
     wake_.wait_for(lock, std::chrono::milliseconds(options_.flush_interval_ms),
@@ -127,7 +133,7 @@ void RecordingService::Pass(bool final_pass) {
       continue;
     }
     const std::int64_t now_ms = UnixNowMs();
-    if (track.file && now_ms - track.last_progress_ms >= 1000) {
+    if (track.file && now_ms - track.last_progress_ms >= kProgressEveryMs) {
       track.last_progress_ms = now_ms;
       Emit(track, RecordingEvent::Kind::kProgress);
     }
@@ -149,7 +155,7 @@ void RecordingService::Pass(bool final_pass) {
 void RecordingService::WriteRecords(Track& track, const std::vector<TickRecord>& records) {
   auto write_block = [&] {
     if (track.block.empty() || !track.file) return;
-    const auto payload = EncodeTickBlock(track.block);
+    const auto payload = encoder_.Encode(track.block);
     const auto first = track.block.front().tick;
     const auto count = static_cast<std::uint32_t>(track.block.size());
     track.block.clear();

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/store/text_codecs.h"
 #include "row_codec.h"
 
@@ -41,6 +42,8 @@ StoreWriter::~StoreWriter() {
 }
 
 void StoreWriter::Run() {
+  common::NameThisThread("hapsim-database");
+  common::LowerThisThreadPriority();  // a server's ticks come first
   std::vector<StoreWrite> batch;
   std::uint64_t last_seq = 0;
   while (queue_.Take(&batch, &last_seq)) {

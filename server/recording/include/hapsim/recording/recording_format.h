@@ -25,6 +25,8 @@
 
 #include "hapsim/runtime/tick_input.h"
 
+struct ZSTD_CCtx_s;  // zstd's compression context (zstd.h)
+
 namespace hapsim::service {
 
 inline constexpr std::array<char, 8> kRecordingMagic = {'H', 'A', 'P', 'S', 'I', 'M', 'R', 'C'};
@@ -100,6 +102,25 @@ std::vector<std::uint8_t> EncodeRecord(RecordKind kind, std::uint64_t first_tick
 // two before it, split into byte planes — so zstd sees long runs of zeros. `ticks` must be consecutive
 // (ticks[i].tick == ticks[0].tick + i) and at most kMaxTicksPerBlock.
 std::vector<std::uint8_t> EncodeTickBlock(std::span<const TickInput> ticks);
+
+// EncodeTickBlock for a writer that encodes block after block: its zstd
+// context and buffers are made once (a fresh context per block costs more
+// than compressing one).
+class TickBlockEncoder {
+ public:
+  static constexpr int kCompressionLevel = -1;  // zstd's fastest-but-one: as small as level 1 here, a third faster
+  TickBlockEncoder();
+  ~TickBlockEncoder();
+  TickBlockEncoder(const TickBlockEncoder&) = delete;
+  TickBlockEncoder& operator=(const TickBlockEncoder&) = delete;
+  // The payload, valid until the next call.
+  std::span<const std::uint8_t> Encode(std::span<const TickInput> ticks);
+
+ private:
+  ZSTD_CCtx_s* context_;
+  std::vector<std::uint8_t> raw_, out_;
+  std::vector<std::uint64_t> residual_;
+};
 // The inverse; throws std::runtime_error (what is wrong) on a payload that
 // does not decode to exactly `count` ticks starting at `first_tick`.
 std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, std::uint64_t first_tick,

@@ -98,6 +98,7 @@ class RecordingService {
   std::uint64_t flush_requested_ = 0, flush_done_ = 0;
   std::condition_variable flushed_;
   std::int64_t last_sync_ms_ = 0;
+  TickBlockEncoder encoder_;  // writer thread only
   std::thread thread_;
 };
 
