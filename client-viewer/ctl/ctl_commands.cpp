@@ -305,6 +305,10 @@ const Command* FindCommand(const std::string& name) {
       {"recordings", {IdArg::kOptionalId, &RunRecordings}},
       {"fetch-recording", {IdArg::kOneId, &RunFetchRecording}},
       {"delete-recording", {IdArg::kOneId, &RunDeleteRecording}},
+      {"replay", {IdArg::kOneId, &RunReplay}},
+      {"replay-info", {IdArg::kOneId, &RunReplayInfo}},
+      {"step", {IdArg::kOneId, &RunStep}},
+      {"seek", {IdArg::kOneId, &RunSeek}},
   };
   const auto it = commands.find(name);
   return it == commands.end() ? nullptr : &it->second;
@@ -332,6 +336,13 @@ void AddCommandFlags(const std::string& command, hapsim::common::Flags* f, Comma
   }
   if (command == "trials") f->Add("csv", &c->csv, "write the CSV to this file (empty: stdout)");
   if (command == "fetch-recording") f->Add("output", &c->output, "write it to this file (empty: its name in the id)");
+  if (command == "replay") {
+    f->Add("speed", &c->speed, "multiple of real time, [0.1, 10] (empty: 1)");
+    f->Add("start-s", &c->start_s, "start this far into the trial [s] (empty: its start)");
+    f->Add("paused", &c->paused, "open it paused (then step, or resume)");
+  }
+  if (command == "step") f->Add("ticks", &c->ticks, "recorded ticks to play, [1, 100000] (empty: 1)");
+  if (command == "seek") f->Add("to-s", &c->to_s, "where to go in the trial [s]");
 }
 
 }  // namespace hapsim::ctl

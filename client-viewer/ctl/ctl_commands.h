@@ -16,6 +16,8 @@ namespace hapsim::ctl {
 // A command's own flags (all optional strings; each command checks what it needs).
 struct CommandFlags {
   std::string id, scene, owner, obj, export_file, indicators, expert, rate_hz, count, csv, output;
+  std::string speed, start_s, ticks, to_s;  // replays
+  bool paused = false;
   std::vector<std::string> params;
 };
 
@@ -47,6 +49,10 @@ void AddCommandFlags(const std::string& command, hapsim::common::Flags* f, Comma
 int RunRecordings(CommandCall& call);
 int RunFetchRecording(CommandCall& call);
 int RunDeleteRecording(CommandCall& call);
+int RunReplay(CommandCall& call);
+int RunReplayInfo(CommandCall& call);
+int RunStep(CommandCall& call);
+int RunSeek(CommandCall& call);
 
 // "hapsim-ctl: MESSAGE (CODE)" on stderr; returns 1.
 int ReportFailure(const grpc::Status& status);

@@ -1,7 +1,9 @@
 // hapsim-ctl's trial-recording commands: list, fetch (to replay with
 // hapsim-replay) and delete.
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 
 #include "ctl_commands.h"
@@ -20,7 +22,88 @@ std::string LocalTime(std::int64_t unix_ms) {
   return text;
 }
 
+void PrintReplay(const hapsim::v1::ReplayInfo& r) {
+  std::printf("%s recording=%s trial_s=%.3f length_s=%.3f speed=%.2f paused=%d ended=%d checkpoints=%" PRIu64
+              " matched=%" PRIu64 " diverged=%" PRIu64 "\n",
+              r.session().session_id().c_str(), r.recording_id().c_str(), r.trial_s(), r.trial_length_s(), r.speed(),
+              r.session().paused() ? 1 : 0, r.ended() ? 1 : 0, r.checkpoints(), r.checkpoints_matched(),
+              r.checkpoints_diverged());
+}
+
+bool ParseNumber(const std::string& text, const char* flag, double* out) {
+  if (text.empty()) return true;
+  char* end = nullptr;
+  *out = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(*out)) {
+    std::fprintf(stderr, "hapsim-ctl: %s wants a number, not '%s'\n", flag, text.c_str());
+    return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+int RunReplay(CommandCall& call) {
+  hapsim::v1::OpenReplayRequest req;
+  req.set_recording_id(call.id);
+  double speed = 1.0, start_s = 0.0;
+  if (!ParseNumber(call.flags.speed, "--speed", &speed) || !ParseNumber(call.flags.start_s, "--start-s", &start_s)) {
+    return 2;
+  }
+  req.set_speed(speed);
+  req.set_start_s(start_s);
+  req.set_paused(call.flags.paused);
+  hapsim::v1::ReplayInfo r;
+  const auto s = call.stub->OpenReplay(&call.context, req, &r);
+  if (!s.ok()) return ReportFailure(s);
+  PrintReplay(r);
+  std::printf("watch it: hapsim-viewer --session %s\n", r.session().session_id().c_str());
+  return 0;
+}
+
+int RunReplayInfo(CommandCall& call) {
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id(call.id);
+  hapsim::v1::ReplayInfo r;
+  const auto s = call.stub->GetReplay(&call.context, ref, &r);
+  if (!s.ok()) return ReportFailure(s);
+  PrintReplay(r);
+  return 0;
+}
+
+int RunStep(CommandCall& call) {
+  hapsim::v1::StepReplayRequest req;
+  req.set_session_id(call.id);
+  double ticks = 1.0;
+  if (!ParseNumber(call.flags.ticks, "--ticks", &ticks)) return 2;
+  if (!(ticks >= 1.0 && ticks <= 100000.0 && ticks == std::floor(ticks))) {
+    std::fprintf(stderr, "hapsim-ctl: --ticks must be a whole number in [1, 100000]\n");
+    return 2;
+  }
+  req.set_ticks(static_cast<std::uint32_t>(ticks));
+  hapsim::v1::ReplayInfo r;
+  const auto s = call.stub->StepReplay(&call.context, req, &r);
+  if (!s.ok()) return ReportFailure(s);
+  PrintReplay(r);
+  return 0;
+}
+
+int RunSeek(CommandCall& call) {
+  hapsim::v1::SeekReplayRequest req;
+  req.set_session_id(call.id);
+  double to_s = 0.0;
+  if (call.flags.to_s.empty()) {
+    std::fprintf(stderr, "hapsim-ctl seek: give --to-s SECONDS\n");
+    return 2;
+  }
+  if (!ParseNumber(call.flags.to_s, "--to-s", &to_s)) return 2;
+  req.set_trial_s(to_s);
+  hapsim::v1::ReplayInfo r;
+  const auto s = call.stub->SeekReplay(&call.context, req, &r);
+  if (!s.ok()) return ReportFailure(s);
+  PrintReplay(r);
+  return 0;
+}
 
 int RunRecordings(CommandCall& call) {
   hapsim::v1::RecordingQuery q;

@@ -41,6 +41,11 @@ constexpr const char* kUsage =
     "  recordings [SESSION]                the trial recordings the caller may see (server with --data-dir)\n"
     "  fetch-recording ID [--output FILE]  download one, to replay with `hapsim-replay FILE`\n"
     "  delete-recording ID                 delete one (instructors; not a running trial's)\n"
+    "  replay ID [--speed X] [--start-s S] [--paused]\n"
+    "                                      replay a recording as a session viewers watch (prints its id)\n"
+    "  replay-info SESSION | step SESSION [--ticks N] | seek SESSION --to-s S\n"
+    "                                      where a replay is and whether it matches its recorded hashes;\n"
+    "                                      play N ticks while paused; go to another moment of the trial\n"
     "  health                              gRPC health check (exit 0 when SERVING)\n"
     "`hapsim-ctl COMMAND --help` lists a command's own flags.";
 

@@ -95,5 +95,26 @@ for rc in replays:
           f"{name}: every checkpoint reached ({r})")
 resumed = [replay_of(f"{os.path.basename(rc)[:-3]}.out") for rc in replays if "data_recordings_t1" in rc]
 check(any(r and r[4] >= 1 for r in resumed), "t1's running trial spans the kill: it holds a resume mark")
+# Replays in the server.
+def replay_fields(name):
+    text = read_text(work, f"{name}.out")
+    return {k: v for k, v in re.findall(r"(\w+)=([^ \n]+)", text)}
+
+check(exit_code(work, "play_open") == 0, "trainee 1 opened a replay of its own trial 0")
+done = replay_fields("play_done")
+print(f"replay of t1's trial 0 at 4x after 1.5 s: {done}")
+check(done.get("ended") == "1" and done.get("diverged") == "0" and done.get("matched") == done.get("checkpoints")
+      and int(done.get("checkpoints", "0")) > 0, "it played to the end and reached every recorded hash")
+viewer = read_text(work, "play_viewer.out")
+m = re.search(r"frames (\d+) \(keyframes 1,", viewer)
+check(exit_code(work, "play_viewer") == 0 and m is not None and int(m.group(1)) >= 30 and "gaps 0" in viewer,
+      f"trainee 1 watched it: {m.group(1) if m else 0} frames in 1.5 s, no gap")
+check(exit_code(work, "play_other") != 0, "trainee 2 may not see trainee 1's replay")
+stepped, sought = replay_fields("play_stepped"), replay_fields("play_sought")
+check(stepped.get("paused") == "1" and abs(float(stepped.get("trial_s", "-1")) - 0.5) < 1e-9,
+      f"a paused replay stepped 500 ticks is 0.500 s into the trial ({stepped.get('trial_s')})")
+check(sought.get("paused") == "1" and abs(float(sought.get("trial_s", "-1")) - 2.0) < 1e-9,
+      f"sought to 2 s it is there, still paused ({sought.get('trial_s')})")
+check(exit_code(work, "play_close") == 0, "the instructor closed the replay")
 check(server_rc == 0, f"the second server exited 0 ({server_rc})")
 finish()

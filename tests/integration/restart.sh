@@ -65,6 +65,25 @@ run recordings_trainee2 as trainee2 recordings
 run recordings_other as trainee2 recordings t1
 run observer_delete as observer delete-recording "$(awk '$2 == "t1" && $3 == "0" {print $1}' recordings.out)"
 run delete_running as instructor delete-recording "$(awk '$2 == "t2" && $NF == "open" {print $1; exit}' recordings.out)"
+# Replays in the server: t1's ended trial 0 at 4x, watched by its trainee;
+# t2's trial paused, stepped and sought.
+t1_0=$(awk '$2 == "t1" && $3 == "0" {print $1}' recordings.out)
+t2_0=$(awk '$2 == "t2" {print $1; exit}' recordings.out)
+run play_open as trainee1 replay "$t1_0" --speed 4
+replay_id=$(awk 'NR == 1 {print $1}' play_open.out)
+"$bin/hapsim-viewer" --headless --server "$addr" "${tls[@]}" --token-file class/tokens/trainee1.token \
+    --session "$replay_id" --seconds 1.5 >play_viewer.out 2>play_viewer.err && echo 0 >play_viewer.rc || echo $? >play_viewer.rc
+run play_done as trainee1 replay-info "$replay_id"
+run play_other as trainee2 replay-info "$replay_id"
+run play_paused as instructor replay "$t2_0" --paused
+paused_id=$(awk 'NR == 1 {print $1}' play_paused.out)
+run play_step as instructor step "$paused_id" --ticks 500
+sleep 1.0  # one step per tick: 0.5 s at 1x
+run play_stepped as instructor replay-info "$paused_id"
+run play_seek as instructor seek "$paused_id" --to-s 2.0
+sleep 0.3
+run play_sought as instructor replay-info "$paused_id"
+run play_close as instructor close "$paused_id"
 mkdir -p fetched
 while read -r id session trial _; do
   [ "$id" = id ] && continue

@@ -25,7 +25,8 @@ SessionServiceImpl::SessionServiceImpl(SessionRegistry* registry, const ViewerHu
       policy_(policy ? policy : &OpenAccessPolicy()),
       dds_domain_(dds_domain),
       classroom_(registry, hub, scores, policy, trials),
-      recordings_(store, std::move(recordings_dir), policy) {}
+      recordings_(store, std::move(recordings_dir), policy),
+      replays_(registry, &recordings_, policy) {}
 
 std::optional<Principal> SessionServiceImpl::Caller(const grpc::ServerContext* context) const {
   return AuthenticateCall(*policy_, context);

@@ -126,15 +126,6 @@ TickListenerFactory Persistence::ListenerFactory() {
 }
 
 std::shared_ptr<TickListener> Persistence::ListenersFor(const SessionConfig& config) {
-  {
-    std::lock_guard lock(mutex_);
-    const auto restored = restoring_.find(config.id);
-    if (restored != restoring_.end()) {  // made by BringBack's replay
-      auto listeners = restored->second;
-      restoring_.erase(restored);
-      return listeners;
-    }
-  }
   const ClassDef* cls = policy_ ? policy_->ClassOf(config.id) : nullptr;
   StoredSession row;
   row.id = config.id;
@@ -259,13 +250,16 @@ bool Persistence::RestoreOne(SessionRegistry& registry, const StoredSession& sto
     }
     {
       std::lock_guard lock(mutex_);
-      restoring_[stored.id] = std::make_shared<TickListenerList>(std::move(listeners));
       sessions_[stored.id] = stored;
       run_of_[stored.id] = stored.run_id;
       trial_files_[{stored.id, header.trial}] = stored.recording_path;
     }
-    registry.Restore(stored.id, stored.scene, stored.owner, stored.params, std::move(replay.scene), next_tick,
-                     replay.last_input->paused);
+    SessionSeed seed;
+    seed.scene = std::move(replay.scene);
+    seed.first_tick = next_tick;
+    seed.paused = replay.last_input->paused;
+    seed.listener = std::make_shared<TickListenerList>(std::move(listeners));
+    registry.CreateSeeded(stored.id, stored.scene, stored.owner, stored.params, std::move(seed));
     const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     spdlog::info(
         "session '{}' brought back at tick {} (trial {}, {} checkpoints matched; {:.2f} s of trial re-run "
@@ -274,10 +268,6 @@ bool Persistence::RestoreOne(SessionRegistry& registry, const StoredSession& sto
         static_cast<double>(replay.ticks_run) * header.tick_period_s, took_s);
     return true;
   } catch (const std::exception& e) {
-    {
-      std::lock_guard lock(mutex_);
-      restoring_.erase(stored.id);
-    }
     spdlog::error("session '{}' could not be brought back: {}", stored.id, e.what());
     store_->RemoveSession(stored.id);
     return false;

@@ -76,9 +76,38 @@ std::optional<Principal> AccessPolicy::Authenticate(const std::string* authoriza
   return p;
 }
 
+void AccessPolicy::AddReplay(const std::string& replay_id, const std::string& recorded_session_id) const {
+  std::lock_guard lock(replays_mutex_);
+  replays_[replay_id] = recorded_session_id;
+}
+
+void AccessPolicy::RemoveReplay(std::string_view replay_id) const {
+  std::lock_guard lock(replays_mutex_);
+  const auto it = replays_.find(replay_id);
+  if (it != replays_.end()) replays_.erase(it);
+}
+
+std::string AccessPolicy::ReplayedSession(std::string_view target) const {
+  std::lock_guard lock(replays_mutex_);
+  const auto it = replays_.find(target);
+  return it == replays_.end() ? std::string() : it->second;
+}
+
 bool AccessPolicy::Allows(const std::optional<Principal>& who, Action action, std::string_view target) const {
   if (!enabled_) return true;
   if (!who) return false;
+  switch (action) {  // a replay: as its recorded session's viewers may see it
+    case Action::kView:
+    case Action::kControl:
+    case Action::kCreateClose:
+    case Action::kJoin:
+      if (const std::string recorded = ReplayedSession(target); !recorded.empty()) {
+        return action != Action::kJoin && Allows(who, Action::kView, recorded);
+      }
+      break;
+    default:
+      break;
+  }
   const Role role = who->role;
   const ClassDef* own_class = FindClass(who->class_name);
   const bool in_class = own_class && own_class->Has(target);

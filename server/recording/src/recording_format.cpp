@@ -242,8 +242,24 @@ std::vector<std::uint8_t> EncodeTickBlock(std::span<const TickInput> ticks) {
   return {payload.begin(), payload.end()};
 }
 
-std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, std::uint64_t first_tick,
-                                       std::uint32_t count) {
+TickBlockDecoder::TickBlockDecoder() : context_(ZSTD_createDCtx()) {
+  if (!context_) throw std::bad_alloc();
+}
+
+void TickBlockDecoder::ReserveForLargestBlock() {
+  raw_.reserve(kMaxTicksPerBlock * RawBytesPerTick());
+  values_.reserve(kMaxTicksPerBlock);
+  ticks_.reserve(kMaxTicksPerBlock);
+  // zstd sizes its decompression context at the first frame: decode one now.
+  const std::vector<TickInput> one(1);
+  const auto frame = EncodeTickBlock(one);
+  Decode(frame, 0, 1);
+}
+
+TickBlockDecoder::~TickBlockDecoder() { ZSTD_freeDCtx(context_); }
+
+std::span<const TickInput> TickBlockDecoder::Decode(std::span<const std::uint8_t> payload, std::uint64_t first_tick,
+                                                    std::uint32_t count) {
   if (count == 0 || count > kMaxTicksPerBlock) {
     throw std::runtime_error("a tick block of " + std::to_string(count) + " ticks (1.." +
                              std::to_string(kMaxTicksPerBlock) + " allowed)");
@@ -259,34 +275,41 @@ std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, st
   const auto compressed = payload.subspan(sizeof raw_bytes);
   const unsigned long long content = ZSTD_getFrameContentSize(compressed.data(), compressed.size());
   if (content != expected) throw std::runtime_error("a tick block whose zstd frame is damaged or of the wrong size");
-  std::vector<std::uint8_t> raw(expected);
-  const std::size_t got = ZSTD_decompress(raw.data(), raw.size(), compressed.data(), compressed.size());
+  raw_.resize(expected);  // after ReserveForLargestBlock(): within capacity, no allocation
+  const std::size_t got = ZSTD_decompressDCtx(context_, raw_.data(), raw_.size(), compressed.data(), compressed.size());
   if (ZSTD_isError(got) || got != expected) throw std::runtime_error("a tick block that does not decompress");
 
-  std::vector<TickInput> ticks(count);
-  std::vector<std::uint64_t> values(count);
+  ticks_.assign(count, TickInput{});
+  values_.resize(count);
   std::size_t at = 0;
   for (const Column& column : Columns()) {
-    std::fill(values.begin(), values.end(), 0);
+    std::fill(values_.begin(), values_.end(), 0);
     for (std::size_t b = 0; b < column.bytes; ++b) {
-      for (std::size_t i = 0; i < count; ++i) values[i] |= static_cast<std::uint64_t>(raw[at++]) << (8 * b);
+      for (std::size_t i = 0; i < count; ++i) values_[i] |= static_cast<std::uint64_t>(raw_[at++]) << (8 * b);
     }
     const std::uint64_t mask = ColumnMask(column);
     std::uint64_t before = 0, previous = 0;
     for (std::size_t i = 0; i < count; ++i) {
-      const std::uint64_t v = (UnZigZag(values[i], column.bytes) + 2 * previous - before) & mask;
-      column.set(ticks[i], v);
+      const std::uint64_t v = (UnZigZag(values_[i], column.bytes) + 2 * previous - before) & mask;
+      column.set(ticks_[i], v);
       before = previous;
       previous = v;
     }
   }
   for (std::uint32_t i = 0; i < count; ++i) {
-    ticks[i].tick = first_tick + i;
-    if (!FiniteTool(ticks[i].tool)) {
+    ticks_[i].tick = first_tick + i;
+    if (!FiniteTool(ticks_[i].tool)) {
       throw std::runtime_error("tick " + std::to_string(first_tick + i) + " holds a non-finite pose");
     }
   }
-  return ticks;
+  return ticks_;
+}
+
+std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, std::uint64_t first_tick,
+                                       std::uint32_t count) {
+  TickBlockDecoder decoder;
+  const auto ticks = decoder.Decode(payload, first_tick, count);
+  return {ticks.begin(), ticks.end()};
 }
 
 std::vector<std::uint8_t> EncodeCheckpoint(std::uint64_t state_hash, double sim_time_s) {

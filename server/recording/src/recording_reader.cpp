@@ -118,6 +118,7 @@ RecordingSummary ReadRecording(std::span<const std::uint8_t> bytes, const Record
   std::size_t at = ReadFileHeader(bytes, &s.header);
   s.valid_bytes = at;
   std::int64_t index = 0;
+  TickBlockDecoder decoder;
   auto stop = [&](const std::string& what) { s.damage = RecordingError(index, at, what); };
   while (at < bytes.size()) {
     if (s.ended) return stop("data after the end record"), s;
@@ -140,9 +141,9 @@ RecordingSummary ReadRecording(std::span<const std::uint8_t> bytes, const Record
         if (first_tick != expected) {
           return stop("ticks from " + std::to_string(first_tick) + ", expected " + std::to_string(expected)), s;
         }
-        std::vector<TickInput> ticks;
+        std::span<const TickInput> ticks;
         try {
-          ticks = DecodeTickBlock(payload, first_tick, count);
+          ticks = decoder.Decode(payload, first_tick, count);
         } catch (const std::exception& e) {
           return stop(e.what()), s;
         }
@@ -177,6 +178,7 @@ RecordingSummary ReadRecording(std::span<const std::uint8_t> bytes, const Record
       default:
         return stop("unknown record kind " + std::to_string(static_cast<int>(kind))), s;
     }
+    if (visitor.record) visitor.record(kind, at + kRecordHeaderBytes, payload, first_tick, count);
     at += kRecordHeaderBytes + length;
     s.valid_bytes = at;
     ++s.records;

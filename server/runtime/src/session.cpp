@@ -24,7 +24,7 @@ constexpr std::size_t kRecentEvents = 64;  // events carried by each snapshot
 }  // namespace
 
 Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port,
-                 std::shared_ptr<TickListener> listener)
+                 std::shared_ptr<TickListener> listener, std::shared_ptr<TickInputSource> source)
     : config_(std::move(config)),
       period_ns_(SecondsToNs(config_.tick_period_s)),
       pose_timeout_ns_(SecondsToNs(config_.pose_timeout_s)),
@@ -34,6 +34,8 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
       scene_(std::move(scene)),
       port_(std::move(port)),
       listener_(std::move(listener)),
+      source_(std::move(source)),
+      step_s_(config_.step_s > 0.0 ? config_.step_s : config_.tick_period_s),
       ownership_(pose_timeout_ns_),
       snapshots_(scene_ ? SnapshotRing::Sizes{static_cast<std::size_t>(scene_->Vertices_m().cols()),
                                               scene_->Topology().Triangles().Capacity(), kRecentEvents,
@@ -70,6 +72,10 @@ Session::Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::
 }
 
 PoseVerdict Session::OfferPose(const PoseSample& pose) {
+  if (source_) {  // a replay: its recording is the only device, and no pose may clock it
+    counters_.poses.from_other_devices.fetch_add(1, std::memory_order_relaxed);
+    return PoseVerdict::kOtherDevice;
+  }
   const PoseVerdict verdict = ownership_.Accept(pose.device_id, pose.seq, pose.received_ns);
   switch (verdict) {
     case PoseVerdict::kOtherDevice:
@@ -92,9 +98,9 @@ std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {
 
 std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
-  const TickInput in = AssembleInput(now_ns);
+  const TickInput in = source_ ? AssembleReplayInput() : AssembleInput(now_ns);
   if (tick_observer_) tick_observer_(in);
-  StepScene(*scene_, in, config_.tick_period_s);
+  StepScene(*scene_, in, step_s_);
   // The step's outputs, read once for the counters, the listener and the device.
   const core::LocalForceModel model = scene_->ForceModel();
   const double tool_force_N = scene_->ToolForce_W_N().norm();
@@ -104,7 +110,7 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   counters_.tick.tick_work.Observe_ns(work_ns);
   RecordTiming(in, due_ns, now_ns, tool_force_N);
   interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
-  if (in.tool.valid) PublishForceModel(in, model, now_ns);
+  if (in.tool.valid && !source_) PublishForceModel(in, model, now_ns);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
   return NextDueNs(in, due_ns, now_ns);
 }
@@ -139,6 +145,32 @@ TickInput Session::AssembleInput(std::int64_t now_ns) {
   return in;
 }
 
+// A replay's input: the recording's next one, unless the session is paused
+// (and no single step was asked for) or the recording has ended; a reset
+// rewinds it with the scene. The recorded pause and reset apply as recorded.
+TickInput Session::AssembleReplayInput() {
+  TickInput in = last_replayed_;
+  in.tick = tick_index_++;
+  in.reset = false;
+  const std::uint32_t resets = reset_requests_.load(std::memory_order_relaxed);
+  const bool rewind = resets != resets_seen_;
+  resets_seen_ = resets;
+  if (rewind) source_->Rewind();
+  bool hold = paused_.load(std::memory_order_relaxed) && !source_->TakeStep();
+  if (!hold) {
+    TickInput recorded;
+    hold = !source_->Next(&recorded);
+    if (!hold) {
+      in = recorded;
+      in.tick = tick_index_ - 1;
+      last_replayed_ = recorded;
+    }
+  }
+  in.paused = in.paused || hold;
+  in.reset = in.reset || rewind;
+  return in;
+}
+
 // A streaming device clocks the session: the next tick comes with its next
 // pose, and this deadline (one period plus the slack after a device tick)
 // only fires if that pose is late. Without a device the session ticks on a
@@ -146,7 +178,7 @@ TickInput Session::AssembleInput(std::int64_t now_ns) {
 // wake-up. After a long stall the schedule re-anchors instead of bursting.
 std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const {
   std::int64_t next;
-  if (in.tool.valid) {  // a device streams
+  if (in.tool.valid && !source_) {  // a device streams
     next = due_ns + period_ns_ + (in.fresh_pose ? pose_slack_ns_ : 0);
   } else {
     next = (due_ns / period_ns_ + 1) * period_ns_;

@@ -32,24 +32,16 @@ void SessionRegistry::PublishTableLocked() {
 
 std::shared_ptr<Session> SessionRegistry::Create(std::string id, std::string scene, std::string owner,
                                                  std::map<std::string, double> params) {
-  return CreateOrRestore(std::move(id), std::move(scene), std::move(owner), std::move(params), {});
+  return CreateSeeded(std::move(id), std::move(scene), std::move(owner), std::move(params), {});
 }
 
-std::shared_ptr<Session> SessionRegistry::Restore(std::string id, std::string scene_name, std::string owner,
-                                                  std::map<std::string, double> params,
-                                                  std::unique_ptr<core::Scene> scene, std::uint64_t first_tick,
-                                                  bool paused) {
-  return CreateOrRestore(std::move(id), std::move(scene_name), std::move(owner), std::move(params),
-                         Restored{std::move(scene), first_tick, paused});
-}
-
-std::shared_ptr<Session> SessionRegistry::CreateOrRestore(std::string id, std::string scene, std::string owner,
-                                                          std::map<std::string, double> params, Restored restored) {
+std::shared_ptr<Session> SessionRegistry::CreateSeeded(std::string id, std::string scene, std::string owner,
+                                                       std::map<std::string, double> params, SessionSeed seed) {
   id = Reserve(std::move(id), owner);
   std::shared_ptr<Session> session;
   const std::string scene_name = scene.empty() ? "tissue_block" : scene;
   try {  // no lock held: other sessions keep ticking and routing poses
-    session = Build(id, std::move(scene), std::move(owner), std::move(params), std::move(restored));
+    session = Build(id, std::move(scene), std::move(owner), std::move(params), std::move(seed));
   } catch (const std::invalid_argument& e) {  // scenes throw invalid_argument on bad parameters
     ReleaseReservation(id);
     throw ServiceError(ErrorCode::kInvalidArgument, e.what());
@@ -92,7 +84,7 @@ std::string SessionRegistry::Reserve(std::string id, const std::string& owner) {
 }
 
 std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::string scene, std::string owner,
-                                                std::map<std::string, double> params, Restored restored) {
+                                                std::map<std::string, double> params, SessionSeed seed) {
   std::shared_ptr<Session> session;
   SessionConfig config;
   config.id = id;
@@ -105,16 +97,19 @@ std::shared_ptr<Session> SessionRegistry::Build(const std::string& id, std::stri
   config.pose_slack_s = defaults_.pose_slack_s;
   config.pose_extrapolation_s = defaults_.pose_extrapolation_s;
   config.model_deadband = defaults_.model_deadband;
-  config.first_tick = restored.first_tick;
-  config.start_paused = restored.paused;
+  config.first_tick = seed.first_tick;
+  config.start_paused = seed.paused;
+  if (seed.tick_period_s > 0.0) config.tick_period_s = seed.tick_period_s;
+  config.step_s = seed.step_s;
   // The scene and the session's first-touched buffers, at low priority;
   // the DDS endpoints only once the scene built (a failed build leaves no
   // writer in the session's partition for another server to see).
   RunAtLowPriority([&] {
-    auto built = restored.scene ? std::move(restored.scene) : core::MakeScene({config.scene, config.params});
+    auto built = seed.scene ? std::move(seed.scene) : core::MakeScene({config.scene, config.params});
     auto port = transport_->Open(config.id);
-    auto tick_listener = tick_listeners_ ? tick_listeners_(config) : nullptr;
-    session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port), std::move(tick_listener));
+    auto tick_listener = seed.listener ? seed.listener : tick_listeners_ ? tick_listeners_(config) : nullptr;
+    session = std::make_shared<Session>(std::move(config), std::move(built), std::move(port), std::move(tick_listener),
+                                        std::move(seed.source));
   });
   return session;
 }

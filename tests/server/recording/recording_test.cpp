@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "core/allocation_counter.h"
+#include "hapsim/recording/recording_player.h"
 #include "hapsim/recording/recording_reader.h"
 #include "hapsim/recording/replay.h"
 #include "server/recording/recording_test_support.h"
@@ -241,6 +242,97 @@ TEST(RecordingService, TheTickNeitherWaitsNorAllocatesToRecord) {
   // The tick's part: a push into a preallocated ring and, at checkpoints, the hash.
   hapsim::test::ScopedAllocationCount counting;
   RunScript(*scene, *recorder, 10, 2000);
+  EXPECT_EQ(counting.Count(), 0u);
+}
+
+}  // namespace
+}  // namespace hapsim::service
+
+namespace hapsim::service {
+namespace {
+
+// A player drives a scene the way a replay session's tick does: an input
+// from Next(), the step, then OnTick to compare the state hash.
+struct PlayedTicks {
+  std::uint64_t stepped = 0;
+};
+PlayedTicks PlayInto(RecordingPlayer& player, core::Scene& scene, std::uint64_t max_ticks) {
+  PlayedTicks played;
+  for (std::uint64_t i = 0; i < max_ticks; ++i) {
+    TickInput in;
+    if (!player.Next(&in)) break;
+    StepScene(scene, in, 1e-3);
+    player.OnTick(TickOutcome{in, scene, scene.ForceModel().state, scene.ToolForce_W_N().norm()});
+    ++played.stepped;
+  }
+  return played;
+}
+
+TEST(RecordingPlayer, PlayingATrialIntoAFreshSceneReachesEveryRecordedHash) {
+  testing::ScratchDir dir("player");
+  const auto files = RecordScript(dir.path, 2000);
+  RecordingPlayer player(ReadRecordingBytes(files[0].string()), 0);
+  auto scene = core::MakeScene({"tissue_block", {}});
+  EXPECT_EQ(PlayInto(player, *scene, 5000).stepped, 2000u);
+  const auto p = player.progress();
+  EXPECT_TRUE(p.ended);
+  EXPECT_EQ(p.checkpoints_matched, 8u);
+  EXPECT_EQ(p.checkpoints_diverged, 0u);
+}
+
+TEST(RecordingPlayer, ASceneThatIsNotTheRecordedOneIsCaughtAtTheFirstCheckpoint) {
+  testing::ScratchDir dir("player-wrong");
+  const auto files = RecordScript(dir.path, 600);
+  RecordingPlayer player(ReadRecordingBytes(files[0].string()), 0);
+  auto scene = core::MakeScene({"tissue_block", {{"size_m", 0.031}}});  // another patch: every hash differs
+  PlayInto(player, *scene, 600);
+  EXPECT_EQ(player.progress().checkpoints_matched, 0u);
+  EXPECT_EQ(player.progress().checkpoints_diverged, 2u);
+}
+
+TEST(RecordingPlayer, StartingLaterAndRewindingGiveTheRecordedInputsOfThoseTicks) {
+  testing::ScratchDir dir("player-seek");
+  const auto files = RecordScript(dir.path, 1500);
+  const auto bytes = ReadRecordingBytes(files[0].string());
+  std::vector<TickInput> all;
+  RecordingVisitor v;
+  v.ticks = [&](std::span<const TickInput> t) { all.insert(all.end(), t.begin(), t.end()); };
+  ReadRecording(bytes, v);
+  RecordingPlayer player(bytes, 777);
+  TickInput in;
+  ASSERT_TRUE(player.Next(&in));
+  EXPECT_TRUE(SameInput(in, all[777]));
+  for (int i = 0; i < 300; ++i) ASSERT_TRUE(player.Next(&in));
+  EXPECT_TRUE(SameInput(in, all[1077]));
+  player.Rewind();
+  ASSERT_TRUE(player.Next(&in));
+  EXPECT_TRUE(SameInput(in, all[0]));
+  EXPECT_EQ(player.progress().next_tick, 1u);
+  EXPECT_THROW(RecordingPlayer(bytes, 1500), std::invalid_argument);
+}
+
+TEST(RecordingPlayer, StepsAreGrantedOneAtATimeAsAskedFor) {
+  testing::ScratchDir dir("player-steps");
+  const auto files = RecordScript(dir.path, 100);
+  RecordingPlayer player(ReadRecordingBytes(files[0].string()), 0);
+  EXPECT_FALSE(player.TakeStep());
+  player.RequestSteps(3);
+  EXPECT_TRUE(player.TakeStep());
+  EXPECT_TRUE(player.TakeStep());
+  EXPECT_TRUE(player.TakeStep());
+  EXPECT_FALSE(player.TakeStep());
+}
+
+TEST(RecordingPlayer, PlayingNeverAllocatesOnTheTick) {
+  testing::ScratchDir dir("player-alloc");
+  const auto files = RecordScript(dir.path, 3000);
+  RecordingPlayer player(ReadRecordingBytes(files[0].string()), 0);
+  auto scene = core::MakeScene({"tissue_block", {}});
+  PlayInto(player, *scene, 10);
+  hapsim::test::ScopedAllocationCount counting;
+  PlayInto(player, *scene, 2990);
+  player.Rewind();
+  PlayInto(player, *scene, 100);
   EXPECT_EQ(counting.Count(), 0u);
 }
 

@@ -29,10 +29,13 @@ class RecordingCalls {
 
   static constexpr std::size_t kChunkBytes = 256 * 1024;
 
- private:
-  // The indexed recording named `id` (throws kNotFound), after checking the caller may see it.
+  // The indexed recording named `id` (throws kNotFound; kFailedPrecondition
+  // without a data directory), after checking the caller may do `action`
+  // on its session.
   StoredRecording Find(const grpc::ServerContext* context, const std::string& id, Action action) const;
   std::string IdOf(const StoredRecording& r) const;
+
+ private:
   void Describe(const StoredRecording& r, hapsim::v1::RecordingInfo* out) const;
 
   ResultsStore* store_;

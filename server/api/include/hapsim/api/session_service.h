@@ -11,6 +11,7 @@
 
 #include "hapsim/api/classroom_calls.h"
 #include "hapsim/api/recording_calls.h"
+#include "hapsim/api/replay_calls.h"
 #include "hapsim/classroom/access_policy.h"
 #include "hapsim/classroom/score_book.h"
 #include "hapsim/classroom/trial_book.h"
@@ -85,6 +86,22 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
                                hapsim::v1::DeleteRecordingResponse* out) override {
     return recordings_.DeleteRecording(c, req, out);
   }
+  grpc::Status OpenReplay(grpc::ServerContext* c, const hapsim::v1::OpenReplayRequest* req,
+                          hapsim::v1::ReplayInfo* out) override {
+    return replays_.OpenReplay(c, req, out);
+  }
+  grpc::Status GetReplay(grpc::ServerContext* c, const hapsim::v1::SessionRef* req,
+                         hapsim::v1::ReplayInfo* out) override {
+    return replays_.GetReplay(c, req, out);
+  }
+  grpc::Status StepReplay(grpc::ServerContext* c, const hapsim::v1::StepReplayRequest* req,
+                          hapsim::v1::ReplayInfo* out) override {
+    return replays_.StepReplay(c, req, out);
+  }
+  grpc::Status SeekReplay(grpc::ServerContext* c, const hapsim::v1::SeekReplayRequest* req,
+                          hapsim::v1::ReplayInfo* out) override {
+    return replays_.SeekReplay(c, req, out);
+  }
 
   static constexpr int kMaxWatchStreams = ClassroomCalls::kMaxWatchStreams;
 
@@ -96,6 +113,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   std::uint32_t dds_domain_;
   ClassroomCalls classroom_;
   RecordingCalls recordings_;
+  ReplayCalls replays_;  // after recordings_, which it uses
 };
 
 // Fills a SessionInfo from a session's counters.

@@ -73,7 +73,6 @@ class Persistence final : public SessionListener {
   const std::string& recordings_dir() const { return options_.recording.directory; }
 
  private:
-  struct Restorable;
   bool Recorded(const std::string& session_id) const;
   std::shared_ptr<TickListener> ListenersFor(const SessionConfig& config);
   bool RestoreOne(SessionRegistry& registry, const StoredSession& stored);
@@ -90,7 +89,6 @@ class Persistence final : public SessionListener {
 
   std::mutex mutex_;                               // guards the maps below (gRPC, pump and writer threads)
   std::map<std::string, StoredSession> sessions_;  // live ones, as in the database
-  std::map<std::string, std::shared_ptr<TickListener>> restoring_;  // id -> listeners made by the replay
   // (session id, trial) -> its recording file, for the trials table.
   std::map<std::pair<std::string, std::uint64_t>, std::string> trial_files_;
   std::map<std::string, std::string> run_of_;  // session id -> its run id (also after close)

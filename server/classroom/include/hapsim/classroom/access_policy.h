@@ -6,13 +6,16 @@
 //   action          instructor          trainee          observer
 //   list scenes     yes                 yes              yes
 //   list sessions   its class's         its own          its class's
-//   view            class sessions      own sessions     class sessions   (GetSession, GetSnapshot, Subscribe, GetScores)
-//   join (device)   class sessions      own sessions     no
-//   control         class sessions      no               no               (pause, resume, reset)
-//   create / close  class sessions      no               no
-//   score           class sessions      no               no
+//   view            class sessions      own sessions     class sessions   (GetSession, GetSnapshot, Subscribe,
+//   GetScores) join (device)   class sessions      own sessions     no control         class sessions      no no
+//   (pause, resume, reset) create / close  class sessions      no               no score           class sessions no no
 //   watch class     its class           no               its class        (WatchClass, GetTrials)
 //   push scenario   its class           no               no
+//
+// A replay of a recorded trial is a session of its own (hapsim-replay-N),
+// registered here as a replay of the recorded session: who may view the
+// recorded session may view the replay and drive it (pause, step, seek,
+// close) — a trainee debriefs their own trial — and nobody joins it.
 //
 // Without a class config (development mode) every caller may do everything;
 // the server then listens on loopback unless told otherwise, and warns
@@ -21,6 +24,7 @@
 #include <atomic>
 #include <cstdint>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <string>
@@ -70,11 +74,20 @@ class AccessPolicy {
 
   AuthCounters& counters() const { return counters_; }
 
+  // Replay sessions (any thread): `replay_id` replays `recorded_session_id`.
+  // Const: registering a replay changes no rule, only which sessions exist.
+  void AddReplay(const std::string& replay_id, const std::string& recorded_session_id) const;
+  void RemoveReplay(std::string_view replay_id) const;
+
  private:
+  // The recorded session `target` replays ("" if it is no replay).
+  std::string ReplayedSession(std::string_view target) const;
   bool enabled_ = false;
   ClassConfig config_;
   std::map<std::string, const TokenDef*, std::less<>> by_hash_;
   mutable AuthCounters counters_;
+  mutable std::mutex replays_mutex_;
+  mutable std::map<std::string, std::string, std::less<>> replays_;  // replay session id -> recorded session id
 };
 
 }  // namespace hapsim::service

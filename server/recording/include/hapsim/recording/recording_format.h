@@ -25,7 +25,8 @@
 
 #include "hapsim/runtime/tick_input.h"
 
-struct ZSTD_CCtx_s;  // zstd's compression context (zstd.h)
+struct ZSTD_CCtx_s;  // zstd's compression and decompression contexts (zstd.h)
+struct ZSTD_DCtx_s;
 
 namespace hapsim::service {
 
@@ -125,6 +126,27 @@ class TickBlockEncoder {
 // does not decode to exactly `count` ticks starting at `first_tick`.
 std::vector<TickInput> DecodeTickBlock(std::span<const std::uint8_t> payload, std::uint64_t first_tick,
                                        std::uint32_t count);
+
+// DecodeTickBlock for a reader that decodes block after block: one zstd
+// context and reused buffers. After ReserveForLargestBlock() decoding never
+// allocates (only a damaged payload's error message does): for a tick thread.
+class TickBlockDecoder {
+ public:
+  TickBlockDecoder();
+  void ReserveForLargestBlock();
+  ~TickBlockDecoder();
+  TickBlockDecoder(const TickBlockDecoder&) = delete;
+  TickBlockDecoder& operator=(const TickBlockDecoder&) = delete;
+  // The ticks, valid until the next call; throws as DecodeTickBlock does.
+  std::span<const TickInput> Decode(std::span<const std::uint8_t> payload, std::uint64_t first_tick,
+                                    std::uint32_t count);
+
+ private:
+  ZSTD_DCtx_s* context_;
+  std::vector<std::uint8_t> raw_;
+  std::vector<std::uint64_t> values_;
+  std::vector<TickInput> ticks_;
+};
 
 std::vector<std::uint8_t> EncodeCheckpoint(std::uint64_t state_hash, double sim_time_s);
 std::vector<std::uint8_t> EncodeResumed(std::int64_t unix_ms);

@@ -30,6 +30,11 @@ struct RecordingVisitor {
   std::function<void(const RecordedCheckpoint&)> checkpoint;
   std::function<void(std::uint64_t first_tick, std::uint32_t count)> gap;  // no tick after it is delivered
   std::function<void(std::uint64_t next_tick, std::int64_t unix_ms)> resumed;
+  // Every good record as it lies in the file (after the callbacks above):
+  // its kind, its payload's offset and bytes, its first tick and count.
+  std::function<void(RecordKind, std::uint64_t payload_offset, std::span<const std::uint8_t> payload,
+                     std::uint64_t first_tick, std::uint32_t count)>
+      record;
 };
 
 struct RecordingSummary {

@@ -34,6 +34,7 @@
 #include "hapsim/runtime/session_port.h"
 #include "hapsim/runtime/snapshot_ring.h"
 #include "hapsim/runtime/tick_input.h"
+#include "hapsim/runtime/tick_input_source.h"
 #include "hapsim/runtime/tick_listener.h"
 #include "hapsim/runtime/tick_pool.h"
 
@@ -61,6 +62,9 @@ struct SessionConfig {
   // session restored after a server restart goes on from its recording.
   std::uint64_t first_tick = 0;
   bool start_paused = false;
+  // Sim time each tick steps [s]; 0: the tick period. A replay at speed k
+  // ticks every step_s / k.
+  double step_s = 0.0;
 };
 
 // A pose accepted by the DDS thread.
@@ -77,8 +81,10 @@ class Session : public TickTask {
   // and the port its force models go out through (written on the worker,
   // right after the step), and optionally what follows its ticks. Throws
   // std::invalid_argument on a bad tick period or frame rate.
+  // With a source, the ticks take their inputs from it (a replay), not
+  // from a device: poses offered are ignored and no force model goes out.
   Session(SessionConfig config, std::unique_ptr<core::Scene> scene, std::shared_ptr<SessionPort> port,
-          std::shared_ptr<TickListener> listener = nullptr);
+          std::shared_ptr<TickListener> listener = nullptr, std::shared_ptr<TickInputSource> source = nullptr);
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
 
@@ -111,6 +117,7 @@ class Session : public TickTask {
   bool TakeSnapshot(std::shared_ptr<const SceneSnapshot>* out) { return snapshot_outbox_.TakeIfNew(out); }
   // What follows this session's ticks (nullptr: nothing); fixed at creation.
   TickListener* tick_listener() const { return listener_.get(); }
+  TickInputSource* input_source() const { return source_.get(); }  // nullptr: a device drives it
   const std::vector<std::string>& layer_names() const { return *layer_names_; }
   void MarkTopologyTaken(std::uint64_t version) { topology_taken_.store(version, std::memory_order_release); }
 
@@ -120,6 +127,7 @@ class Session : public TickTask {
 
  private:
   TickInput AssembleInput(std::int64_t now_ns);
+  TickInput AssembleReplayInput();
   std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
   void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N);
   void PublishForceModel(const TickInput& in, const core::LocalForceModel& model, std::int64_t now_ns);
@@ -135,6 +143,8 @@ class Session : public TickTask {
   std::shared_ptr<SessionPort> port_;
   std::function<void(const TickInput&)> tick_observer_;
   std::shared_ptr<TickListener> listener_;
+  std::shared_ptr<TickInputSource> source_;
+  double step_s_;
   SessionCounters counters_;
 
   // DDS thread state.
@@ -148,6 +158,7 @@ class Session : public TickTask {
 
   // Tick state (one worker at a time; the pool orders successive ticks).
   PoseSample last_pose_;
+  TickInput last_replayed_;  // a replay's last input (its tool stays shown while paused)
   bool have_pose_ = false;
   std::int64_t pose_taken_ns_ = 0;  // the tick that took last_pose_ fresh
   std::uint64_t tick_index_ = 0;

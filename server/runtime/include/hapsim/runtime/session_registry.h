@@ -45,6 +45,19 @@ enum class CloseReason { kClosed, kServerStopping };
 // Makes what follows a new session's ticks (may return nullptr).
 using TickListenerFactory = std::function<std::shared_ptr<TickListener>(const SessionConfig&)>;
 
+// How a session starts when not fresh: brought back after a server restart
+// (its scene as its recording left it, going on from first_tick), or as a
+// replay of a recording (its inputs from a source, at a chosen speed).
+struct SessionSeed {
+  std::unique_ptr<core::Scene> scene;  // nullptr: build a fresh one
+  std::uint64_t first_tick = 0;
+  bool paused = false;
+  std::shared_ptr<TickListener> listener;   // set: this one, not the registry's factory's
+  std::shared_ptr<TickInputSource> source;  // set: inputs from it, not from a device
+  double tick_period_s = 0.0;               // > 0: instead of the server's (a replay's speed)
+  double step_s = 0.0;                      // > 0: sim time per tick, when not the tick period
+};
+
 // Told when a session has stopped (no tick runs, no pose arrives any more).
 class SessionListener {
  public:
@@ -66,12 +79,10 @@ class SessionRegistry {
   // (also while a session of that id is being built), kResourceExhausted.
   std::shared_ptr<Session> Create(std::string id, std::string scene, std::string owner,
                                   std::map<std::string, double> params);
-  // Brings back a session after a server restart: as Create, but with its
-  // scene already in the state its recording reached, its tick count going
-  // on from `first_tick`, and paused if it was.
-  std::shared_ptr<Session> Restore(std::string id, std::string scene_name, std::string owner,
-                                   std::map<std::string, double> params, std::unique_ptr<core::Scene> scene,
-                                   std::uint64_t first_tick, bool paused);
+  // As Create, for a session that does not start fresh: brought back after a
+  // server restart, or a replay of a recording (SessionSeed).
+  std::shared_ptr<Session> CreateSeeded(std::string id, std::string scene_name, std::string owner,
+                                        std::map<std::string, double> params, SessionSeed seed);
   std::shared_ptr<Session> Find(std::string_view id) const;       // nullptr if none
   std::shared_ptr<Session> FindOrThrow(std::string_view id) const;  // kNotFound
   // Stops the session's ticks and poses, then tells the listener. Throws kNotFound.
@@ -85,15 +96,8 @@ class SessionRegistry {
   // Create's three steps: reserve the id (brief lock; a generated one if
   // empty), build the session with no lock held, publish it in the table.
   std::string Reserve(std::string id, const std::string& owner);
-  struct Restored {
-    std::unique_ptr<core::Scene> scene;  // nullptr: build a fresh one
-    std::uint64_t first_tick = 0;
-    bool paused = false;
-  };
-  std::shared_ptr<Session> CreateOrRestore(std::string id, std::string scene, std::string owner,
-                                           std::map<std::string, double> params, Restored restored);
   std::shared_ptr<Session> Build(const std::string& id, std::string scene, std::string owner,
-                                 std::map<std::string, double> params, Restored restored);
+                                 std::map<std::string, double> params, SessionSeed seed);
   void Publish(const std::string& id, const std::shared_ptr<Session>& session);
   void PublishTableLocked();
   void Shut(Session& session, CloseReason why);
