@@ -1,5 +1,5 @@
 // The migration steps. Append only: a released step is never edited.
-// Columns are documented in hapsim/store/stored_rows.h and SCHEMA.md.
+// Columns are documented in hapsim/store/stored_rows.h and docs/recording.md.
 #include "hapsim/store/schema.h"
 
 namespace hapsim::service {

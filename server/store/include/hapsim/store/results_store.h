@@ -1,6 +1,6 @@
 // The results database: what a classroom produces (trials, score sheets,
 // rosters, the recordings' index) and the live sessions to bring back after
-// a restart, in one SQLite file (schema: server/store/SCHEMA.md).
+// a restart, in one SQLite file (schema: docs/recording.md, "The results database").
 //
 // Writes never block the caller and never throw: they are queued (bounded,
 // StoreOptions::queue_capacity) and one writer thread commits whatever is

@@ -1,4 +1,4 @@
-// The rows of the results database (server/store/SCHEMA.md): one struct per
+// The rows of the results database (docs/recording.md, "The results database"): one struct per
 // table, each field one column unless said otherwise. Times are wall-clock
 // milliseconds since the Unix epoch (`_unix_ms`), simulation times seconds
 // (`_sim_s`); a NaN double is stored as NULL and read back as NaN.

@@ -1,4 +1,4 @@
-// The text forms of the results database's list columns (server/store/SCHEMA.md).
+// The text forms of the results database's list columns (docs/recording.md, "The results database").
 // Doubles are written as %.17g (locale-free), so they read back bit-exact
 // (NaN reads back as a quiet NaN). Names are escaped so that any name
 // survives: '%' and the separators become %XX.
