@@ -27,6 +27,13 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// A call's status as a gtest assertion: a failure says the code and message.
+::testing::AssertionResult CallOk(const grpc::Status& status) {
+  if (status.ok()) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "status " << static_cast<int>(status.error_code()) << ": "
+                                       << status.error_message();
+}
+
 // Each test gets its own DDS domain so parallel ctest runs do not mix.
 std::uint32_t NextDomain() { return test::ClaimTestDdsDomain(); }
 
@@ -135,7 +142,7 @@ TEST_F(ServerAppTest, ControlsSnapshotAndScoresOfAnUnknownSessionAreNotFound) {
     EXPECT_NE(status.error_message().find("no session 'ghost'"), std::string::npos) << status.error_message();
   }
   // A live session nobody has scored yet is not unknown: an empty report.
-  ASSERT_TRUE(Create("unscored").ok());
+  ASSERT_TRUE(CallOk(Create("unscored")));
   grpc::ClientContext ctx;
   hapsim::v1::ScoreQuery query;
   query.set_session_id("unscored");
@@ -184,10 +191,10 @@ TEST_F(ServerAppTest, BadCreateRequestsGetClearErrors) {
   EXPECT_EQ(Create("b", "tissue_block", {{"no_such_param", 1.0}}).error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(Create("c", "tissue_block", {{"grid_nodes", std::nan("")}}).error_code(),
             grpc::StatusCode::INVALID_ARGUMENT);
-  ASSERT_TRUE(Create("d").ok());
+  ASSERT_TRUE(CallOk(Create("d")));
   EXPECT_EQ(Create("d").error_code(), grpc::StatusCode::ALREADY_EXISTS);
-  ASSERT_TRUE(Create("e").ok());
-  ASSERT_TRUE(Create("f").ok());
+  ASSERT_TRUE(CallOk(Create("e")));
+  ASSERT_TRUE(CallOk(Create("f")));
   EXPECT_EQ(Create("g").error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);  // max 3
 }
 
@@ -202,7 +209,7 @@ TEST_F(ServerAppTest, OversizedMessageIsRefusedAndServerStaysUp) {
 }
 
 TEST_F(ServerAppTest, NanPosesAreDroppedAndCountedWhileTheSessionKeepsTicking) {
-  ASSERT_TRUE(Create("nan").ok());
+  ASSERT_TRUE(CallOk(Create("nan")));
   dds::Participant participant({domain_, ""});
   dds::Writer<hapsim_dds_StylusPose> writer(participant, &hapsim_dds_StylusPose_desc, "hapsim_StylusPose",
                                                    dds::SessionPartition("nan"));
@@ -270,8 +277,8 @@ void StreamPoses(std::initializer_list<TestDevice*> devices, int max_ms, const s
 }
 
 TEST_F(ServerAppTest, EachDeviceReceivesOnlyItsOwnSessionsModels) {
-  ASSERT_TRUE(Create("room-a").ok());
-  ASSERT_TRUE(Create("room-b").ok());
+  ASSERT_TRUE(CallOk(Create("room-a")));
+  ASSERT_TRUE(CallOk(Create("room-b")));
   TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
   StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 200 && b.models_own >= 200; });
   EXPECT_GE(a.models_own, 200u);
@@ -283,8 +290,8 @@ TEST_F(ServerAppTest, EachDeviceReceivesOnlyItsOwnSessionsModels) {
 }
 
 TEST_F(ServerAppTest, APoseNamingAnotherSessionInsideAPartitionMovesNeitherAndIsCounted) {
-  ASSERT_TRUE(Create("room-a").ok());
-  ASSERT_TRUE(Create("room-b").ok());
+  ASSERT_TRUE(CallOk(Create("room-a")));
+  ASSERT_TRUE(CallOk(Create("room-b")));
   TestDevice intruder(domain_, "room-a", 9);
   std::strcpy(intruder.pose.session, "room-b");  // published in room-a's partition
   intruder.pose.pos_m[2] = -0.01;                // would press 1 cm deep
@@ -302,8 +309,8 @@ TEST_F(ServerAppTest, APoseNamingAnotherSessionInsideAPartitionMovesNeitherAndIs
 }
 
 TEST_F(ServerAppTest, ClosingASessionStopsItsModelsWhileTheOtherSessionContinues) {
-  ASSERT_TRUE(Create("room-a").ok());
-  ASSERT_TRUE(Create("room-b").ok());
+  ASSERT_TRUE(CallOk(Create("room-a")));
+  ASSERT_TRUE(CallOk(Create("room-b")));
   TestDevice a(domain_, "room-a", 1), b(domain_, "room-b", 2);
   StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 100 && b.models_own >= 100; });
   ASSERT_GE(a.models_own, 100u);
@@ -345,8 +352,8 @@ TEST_F(ServerAppTest, EachOfTwoServersServingOneSessionIdSeesTheOthersModelWrite
     for (int i = 0; i < 500 && !done(); ++i) std::this_thread::sleep_for(10ms);
     return done();
   };
-  ASSERT_TRUE(Create("t1", "tissue_block").ok());
-  ASSERT_TRUE(Create("t2", "tissue_block").ok());
+  ASSERT_TRUE(CallOk(Create("t1", "tissue_block")));
+  ASSERT_TRUE(CallOk(Create("t2", "tissue_block")));
   ASSERT_TRUE(create_on_other("t1", "acupuncture").ok());
   ASSERT_TRUE(create_on_other("t3", "tissue_block").ok());
   EXPECT_TRUE(wait_for([&] { return ours.load() == 1 && theirs.load() == 1; }))
@@ -368,7 +375,7 @@ TEST_F(ServerAppTest, EachOfTwoServersServingOneSessionIdSeesTheOthersModelWrite
 }
 
 TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
-  ASSERT_TRUE(Create("v").ok());
+  ASSERT_TRUE(CallOk(Create("v")));
   {
     grpc::ClientContext ctx;
     auto reader = Subscribe(&ctx, "v");
@@ -393,8 +400,8 @@ TEST_F(ServerAppTest, ViewerDisconnectingMidStreamLeavesServerHealthy) {
 }
 
 TEST_F(ServerAppTest, ScoresAreCheckedAndEachSessionScoredByItsOwnRaters) {
-  ASSERT_TRUE(Create("ta").ok());
-  ASSERT_TRUE(Create("tb").ok());
+  ASSERT_TRUE(CallOk(Create("ta")));
+  ASSERT_TRUE(CallOk(Create("tb")));
   auto submit = [&](const std::string& id, const std::string& expert, std::vector<double> x,
                     hapsim::v1::ScoreReport* report) {
     grpc::ClientContext ctx;
@@ -467,7 +474,7 @@ TEST_F(ServerAppTest, PauseFreezesSimTimeAndResumeAndResetWork) {
 }
 
 TEST_F(ServerAppTest, SnapshotAndSceneListAnswer) {
-  ASSERT_TRUE(Create("snap").ok());
+  ASSERT_TRUE(CallOk(Create("snap")));
   grpc::ClientContext c1;
   hapsim::v1::ListScenesResponse scenes;
   ASSERT_TRUE(sessions_->ListScenes(&c1, {}, &scenes).ok());
@@ -491,7 +498,7 @@ TEST_F(ServerAppTest, SnapshotAndSceneListAnswer) {
 }
 
 TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
-  ASSERT_TRUE(Create("slow").ok());
+  ASSERT_TRUE(CallOk(Create("slow")));
   grpc::ClientContext ctx;
   auto reader = Subscribe(&ctx, "slow", /*ack_window=*/2);
   hapsim::v1::Frame frame;
@@ -525,7 +532,7 @@ TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
 }
 
 TEST_F(ServerAppTest, AckWindowStopsTheStreamUntilTheViewerAcks) {
-  ASSERT_TRUE(Create("win").ok());
+  ASSERT_TRUE(CallOk(Create("win")));
   grpc::ClientContext ctx;
   auto reader = Subscribe(&ctx, "win", /*ack_window=*/2);
   hapsim::v1::Frame frame;
@@ -551,7 +558,7 @@ TEST_F(ServerAppTest, AckWindowStopsTheStreamUntilTheViewerAcks) {
 // so it cannot open the window. If it did, frames 2 and 3 would be sent
 // during the pause and the next one read would be old.
 TEST_F(ServerAppTest, AnAckBeyondWhatWasSentDoesNotOpenTheWindow) {
-  ASSERT_TRUE(Create("ahead").ok());
+  ASSERT_TRUE(CallOk(Create("ahead")));
   grpc::ClientContext ctx;
   auto reader = Subscribe(&ctx, "ahead", /*ack_window=*/2);
   hapsim::v1::Frame frame;
@@ -585,7 +592,7 @@ TEST_F(ServerAppTest, AStreamWithoutARequestOrWhoseSessionClosesEndsSayingWhy) {
     EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
     EXPECT_EQ(status.error_message(), "no SubscribeRequest received");
   }
-  ASSERT_TRUE(Create("doomed").ok());
+  ASSERT_TRUE(CallOk(Create("doomed")));
   grpc::ClientContext ctx;
   auto stream = Subscribe(&ctx, "doomed");
   hapsim::v1::Frame frame;
@@ -608,7 +615,7 @@ TEST_F(ServerAppTest, AStreamWithoutARequestOrWhoseSessionClosesEndsSayingWhy) {
 // Row 29, the server's side: a viewer streaming when the server stops is told
 // so (UNAVAILABLE, retry elsewhere or later), not left with a broken pipe.
 TEST_F(ServerAppTest, AStreamEndsUnavailableWhenTheServerShutsDown) {
-  ASSERT_TRUE(Create("live").ok());
+  ASSERT_TRUE(CallOk(Create("live")));
   grpc::ClientContext ctx;
   auto stream = Subscribe(&ctx, "live");
   hapsim::v1::Frame frame;
@@ -670,7 +677,7 @@ TEST_F(ServerAppTest, AnIdIsHeldWhileItBuildsAndFreedWhenItsClientGaveUp) {
 }
 
 TEST_F(ServerAppTest, SubscribeWithoutRequestOrWithBadWindowIsRejected) {
-  ASSERT_TRUE(Create("bad").ok());
+  ASSERT_TRUE(CallOk(Create("bad")));
   {
     grpc::ClientContext ctx;
     auto stream = viewers_->Subscribe(&ctx);
