@@ -112,12 +112,11 @@ int RunRecordings(CommandCall& call) {
   const auto s = call.stub->ListRecordings(&call.context, q, &list);
   if (!s.ok()) return ReportFailure(s);
   std::printf("%-40s %-10s %5s %-12s %-14s %-19s %9s %10s %s\n", "id", "session", "trial", "trainee", "scene",
-              "started", "length_s", "bytes", "status");
+              "started", "ticks", "bytes", "status");
   for (const auto& r : list.recordings()) {
-    std::printf("%-40s %-10s %5" PRIu64 " %-12s %-14s %-19s %9.1f %10" PRIu64 " %s\n", r.id().c_str(),
+    std::printf("%-40s %-10s %5" PRIu64 " %-12s %-14s %-19s %9" PRIu64 " %10" PRIu64 " %s\n", r.id().c_str(),
                 r.session_id().c_str(), r.trial(), r.trainee().c_str(), r.scene().c_str(),
-                LocalTime(r.started_unix_ms()).c_str(), static_cast<double>(r.ticks()) * 1e-3, r.bytes(),
-                r.status().c_str());
+                LocalTime(r.started_unix_ms()).c_str(), r.ticks(), r.bytes(), r.status().c_str());
   }
   return 0;
 }

@@ -242,11 +242,10 @@ bool Persistence::RestoreOne(SessionRegistry& registry, const StoredSession& sto
     const std::uint64_t next_tick = s.next_tick();
     std::vector<std::shared_ptr<TickListener>> listeners{trials};
     if (Recorded(stored.id)) {
-      listeners.push_back(recording_->Attach(
-          RecordedSession{stored.id, stored.run_id, stored.scene, stored.params, stored.owner, stored.class_name,
-                          header.tick_period_s},
-          next_tick,
-          RecordingResume{stored.recording_path, s.valid_bytes, header.trial, header.first_tick, next_tick}));
+      listeners.push_back(recording_->Attach(RecordedSession{stored.id, stored.run_id, stored.scene, stored.params,
+                                                             stored.owner, stored.class_name, header.tick_period_s},
+                                             next_tick,
+                                             RecordingResume{stored.recording_path, s.valid_bytes, header, next_tick}));
     }
     {
       std::lock_guard lock(mutex_);

@@ -86,20 +86,23 @@ const std::array<Column, 14>& Columns() {
   return columns;
 }
 
-std::uint64_t ColumnMask(const Column& column) {
-  return column.bytes == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * column.bytes)) - 1;
+// The low `bytes` bytes set: a column's width.
+std::uint64_t WidthMask(std::size_t bytes) {
+  return bytes == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * bytes)) - 1;
 }
+
+std::uint64_t ColumnMask(const Column& column) { return WidthMask(column.bytes); }
 
 // A residual modulo 2^(8 bytes) as a signed number, folded so that 0, -1, 1,
 // -2, ... become 0, 1, 2, 3, ...
 std::uint64_t ZigZag(std::uint64_t r, std::size_t bytes) {
-  const std::uint64_t mask = bytes == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * bytes)) - 1;
+  const std::uint64_t mask = WidthMask(bytes);
   const bool negative = (r >> (8 * bytes - 1)) & 1u;
   return ((r << 1) ^ (negative ? mask : 0)) & mask;
 }
 
 std::uint64_t UnZigZag(std::uint64_t z, std::size_t bytes) {
-  const std::uint64_t mask = bytes == 8 ? ~std::uint64_t{0} : (std::uint64_t{1} << (8 * bytes)) - 1;
+  const std::uint64_t mask = WidthMask(bytes);
   return ((z >> 1) ^ ((z & 1u) ? mask : 0)) & mask;
 }
 

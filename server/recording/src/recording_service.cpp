@@ -7,7 +7,6 @@
 #include <filesystem>
 
 #include "hapsim/common/thread_setup.h"
-#include "hapsim/recording/recording_reader.h"
 
 namespace hapsim::service {
 
@@ -46,16 +45,15 @@ RecordingService::~RecordingService() { Stop(); }
 std::shared_ptr<SessionRecorder> RecordingService::Attach(RecordedSession who, std::uint64_t first_tick,
                                                           std::optional<RecordingResume> resume) {
   auto track = std::make_unique<Track>();
-  const std::uint64_t trial_first_tick = resume ? resume->trial_first_tick : first_tick;
+  const std::uint64_t trial_first_tick = resume ? resume->header.first_tick : first_tick;
   track->recorder = std::make_shared<SessionRecorder>(std::move(who), options_.queue_ticks,
                                                       options_.checkpoint_every_ticks, trial_first_tick);
   track->next_tick = first_tick;
   if (resume) {  // the writer appends to the restored trial's file from its first pass
-    const RecordingSummary summary = ReadRecording(ReadRecordingBytes(resume->path));
-    track->header = summary.header;
+    track->header = resume->header;
     track->file.emplace(RecordingFile::Reopen(resume->path, resume->valid_bytes));
-    track->trial = resume->trial;
-    track->trial_ticks = summary.ticks;
+    track->trial = resume->header.trial;
+    track->trial_ticks = resume->next_tick - resume->header.first_tick;
     track->started = true;
     std::string error;
     const auto mark = EncodeRecord(RecordKind::kResumed, resume->next_tick, 0, EncodeResumed(UnixNowMs()));

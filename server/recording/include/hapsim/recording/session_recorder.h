@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 
+#include "hapsim/recording/recording_format.h"
 #include "hapsim/recording/tick_ring.h"
 #include "hapsim/runtime/session.h"
 #include "hapsim/runtime/tick_listener.h"
@@ -27,13 +28,12 @@ struct RecordedSession {
 };
 
 // Where a restored session's recording goes on: the trial's file (cut back
-// to its last good record and appended to).
+// to its last good record and appended to), as its reader found it.
 struct RecordingResume {
   std::string path;
   std::uint64_t valid_bytes = 0;
-  std::uint64_t trial = 0;
-  std::uint64_t trial_first_tick = 0;
-  std::uint64_t next_tick = 0;
+  RecordingHeader header;       // the file's: its trial, first tick, start time
+  std::uint64_t next_tick = 0;  // the first tick not in the file
 };
 
 class SessionRecorder final : public TickListener {
