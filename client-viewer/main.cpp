@@ -69,6 +69,7 @@ struct ViewerFlags {
   hapsim::viewer::ViewerOptions options;
   std::string obj_path, export_path, log_level = "info";
   std::string png_path, plot_png_path, size_text = "1280x720", class_name, replay_path, record_path, camera_text;
+  std::string open_trial;
   double benchmark_seconds = 0.0, class_rate_hz = 10.0, max_fps = 60.0;
   bool panels = true, follow_tool = false, vsync = true;
   bool show_tool = true, show_force = true, show_events = true, see_through = true;
@@ -98,6 +99,9 @@ void DeclareStreamFlags(hapsim::common::Flags* flags, ViewerFlags* f) {
 void DeclareWindowFlags(hapsim::common::Flags* flags, ViewerFlags* f) {
   flags->Add("class", &f->class_name, "the instructor's class console: every session of this class (window mode)");
   flags->Add("class-rate-hz", &f->class_rate_hz, "class console update rate [Hz]");
+  flags->Add("open-trial", &f->open_trial,
+             "with --class: open this recorded trial (a recording id, or \"latest\": the class's newest ended trial) "
+             "as a replay and watch it, as the console's Past trials Open button does");
   flags->Add("png", &f->png_path,
              "at the end, write the last picture here as PNG (from the window; off screen with --headless or without "
              "a display)");
@@ -151,6 +155,9 @@ std::string CheckModeFlags(ViewerFlags* f) {
     return "--camera wants TX,TY,TZ,DISTANCE,YAW,PITCH[,FOV] (distance in (0, 100] m, fov in [5, 150] deg), got '" +
            f->camera_text + "'";
   }
+  if (!f->open_trial.empty() && f->class_name.empty()) {
+    return "--open-trial opens a past trial in the class console: add --class CLASS";
+  }
   if (!f->class_name.empty() && !f->gui) {
     return "--class is the window's instructor console: drop --headless, or add --png to draw it off screen";
   }
@@ -199,6 +206,7 @@ hapsim::gui::GuiOptions MakeGuiOptions(const ViewerFlags& f) {
   g.viewer = f.options;
   g.class_name = f.class_name;
   g.class_rate_hz = f.class_rate_hz;
+  g.open_trial = f.open_trial;
   g.replay_path = f.replay_path;
   g.record_path = f.record_path;
   g.png_path = f.png_path;

@@ -4,30 +4,20 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <ctime>
 
 #include "ctl_commands.h"
+#include "hapsim/common/clock.h"
 
 namespace hapsim::ctl {
 
 namespace {
 
-std::string LocalTime(std::int64_t unix_ms) {
-  if (unix_ms <= 0) return "-";
-  const std::time_t t = static_cast<std::time_t>(unix_ms / 1000);
-  std::tm local{};
-  localtime_r(&t, &local);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%d %H:%M:%S", &local);
-  return text;
-}
-
 void PrintReplay(const hapsim::v1::ReplayInfo& r) {
   std::printf("%s recording=%s trial_s=%.3f length_s=%.3f speed=%.2f paused=%d ended=%d checkpoints=%" PRIu64
-              " matched=%" PRIu64 " diverged=%" PRIu64 "\n",
+              " matched=%" PRIu64 " diverged=%" PRIu64 " rerun_ticks=%" PRIu64 " kept_states=%" PRIu64 "\n",
               r.session().session_id().c_str(), r.recording_id().c_str(), r.trial_s(), r.trial_length_s(), r.speed(),
               r.session().paused() ? 1 : 0, r.ended() ? 1 : 0, r.checkpoints(), r.checkpoints_matched(),
-              r.checkpoints_diverged());
+              r.checkpoints_diverged(), r.rerun_ticks(), r.kept_states());
 }
 
 bool ParseNumber(const std::string& text, const char* flag, double* out) {
@@ -116,7 +106,8 @@ int RunRecordings(CommandCall& call) {
   for (const auto& r : list.recordings()) {
     std::printf("%-40s %-10s %5" PRIu64 " %-12s %-14s %-19s %9" PRIu64 " %10" PRIu64 " %s\n", r.id().c_str(),
                 r.session_id().c_str(), r.trial(), r.trainee().c_str(), r.scene().c_str(),
-                LocalTime(r.started_unix_ms()).c_str(), r.ticks(), r.bytes(), r.status().c_str());
+                common::LocalTimeText(r.started_unix_ms(), "%Y-%m-%d %H:%M:%S").c_str(), r.ticks(), r.bytes(),
+                r.status().c_str());
   }
   return 0;
 }

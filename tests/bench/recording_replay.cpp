@@ -6,9 +6,15 @@
 //  2. a 10-minute scripted trial recorded through the real writer thread
 //     (file size, bytes per tick);
 //  3. that trial replayed with hapsim-replay's Replay(): real-time factor and
-//     every checkpoint's hash.
+//     every checkpoint's hash;
+//  4. seeking in it as a replay session does: forward to 90 % (a re-run from
+//     the start that keeps states at checkpoints), then back to 55 % (from
+//     the nearest kept state), against a re-run from the start to 55 %; and
+//     what a kept state costs (Scene::SaveState(): time and heap; RestoreState()).
 // A plain program (not Google Benchmark): each figure is one long run.
 //   build/bin/bench_recording_replay [SCENE [TRIAL_S]]   (default tissue_block 600)
+#include <malloc.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +22,7 @@
 #include <random>
 #include <string>
 
+#include "hapsim/recording/checkpoint_states.h"
 #include "hapsim/recording/recording_service.h"
 #include "hapsim/recording/replay.h"
 
@@ -67,6 +74,54 @@ double StepCost(const std::string& scene_name, std::uint64_t ticks, hapsim::serv
     }
   }
   return (Seconds(start) - writer_wait_s) / static_cast<double>(ticks);
+}
+
+// Heap in use [MB] (glibc's count of allocated bytes: freed memory the
+// allocator keeps does not hide a new allocation, as it would in the RSS).
+double HeapInUseMB() { return static_cast<double>(mallinfo2().uordblks) / 1e6; }
+
+// Re-runs `recording` to the state before `next_tick`, from the nearest of `kept`, keeping states on the way.
+hapsim::service::ReplayResult SeekTo(std::span<const std::uint8_t> recording, std::uint64_t next_tick,
+                                     hapsim::service::CheckpointStates* kept) {
+  hapsim::service::ReplayOptions options;
+  options.until_tick = next_tick - 1;
+  if (kept) {
+    if (const auto nearest = kept->Nearest(next_tick)) options.from = {nearest->scene, nearest->next_tick};
+    options.after_matched_checkpoint = [kept](const hapsim::service::RecordedCheckpoint& c,
+                                              const hapsim::core::Scene& at) { kept->Offer(c.tick + 1, at); };
+  }
+  return hapsim::service::Replay(recording, options);
+}
+
+// 4. Seeking: forward from the start, back from a kept state, and a kept state's cost.
+bool MeasureSeeks(const std::string& scene, std::span<const std::uint8_t> recording, std::uint64_t ticks) {
+  const std::uint64_t first = hapsim::service::ReadRecordingHeader(recording).first_tick;
+  hapsim::service::CheckpointStates kept(first, hapsim::service::CheckpointStates::SpacingFor(
+                                                    ticks, hapsim::service::CheckpointStates::kDefaultMaxStates, 1));
+  const auto forward = SeekTo(recording, first + ticks * 9 / 10, &kept);
+  const std::uint64_t target = first + ticks * 11 / 20 + 437;  // between checkpoints
+  const auto back = SeekTo(recording, target, &kept);
+  const auto reference = SeekTo(recording, target, nullptr);
+  const bool same = forward.ok() && back.ok() && back.scene->StateHash() == reference.scene->StateHash();
+  std::printf(
+      "seek forward to 90 %%: %llu ticks re-run in %.2f s (%zu states kept, one per %llu ticks); back to 55 %%: "
+      "%llu ticks re-run in %.3f s, against %.2f s from the start; same state hash: %s\n",
+      static_cast<unsigned long long>(forward.ticks_run), forward.elapsed_s, kept.size(),
+      static_cast<unsigned long long>(kept.spacing_ticks()), static_cast<unsigned long long>(back.ticks_run),
+      back.elapsed_s, reference.elapsed_s, same ? "yes" : "NO");
+  std::vector<std::unique_ptr<const hapsim::core::Scene>> saved;
+  const double before_MB = HeapInUseMB();
+  const auto save_start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 10; ++i) saved.push_back(back.scene->SaveState());
+  const double save_s = Seconds(save_start) / 10.0, saved_MB = (HeapInUseMB() - before_MB) / 10.0;
+  const auto restore_start = std::chrono::steady_clock::now();
+  auto restored = hapsim::core::MakeScene({scene, {}});
+  const double build_s = Seconds(restore_start);
+  restored->RestoreState(*saved.front());
+  std::printf(
+      "a kept state (%s): saved in %.2f ms, %.2f MB of heap; restored in %.1f ms (building the scene %.1f ms)\n",
+      scene.c_str(), save_s * 1e3, saved_MB, Seconds(restore_start) * 1e3, build_s * 1e3);
+  return same;
 }
 
 }  // namespace
@@ -131,7 +186,8 @@ int main(int argc, char** argv) {
               static_cast<double>(r.ticks_run) * 1e-3 / r.elapsed_s,
               static_cast<unsigned long long>(r.checkpoints_matched),
               static_cast<unsigned long long>(r.summary.checkpoints), r.ok() ? "" : " — DIVERGED");
+  const bool seeks_ok = MeasureSeeks(scene, recording, r.ticks_run);
   service.Stop();
   std::filesystem::remove_all(dir);
-  return r.ok() && r.checkpoints_matched == r.summary.checkpoints ? 0 : 1;
+  return r.ok() && r.checkpoints_matched == r.summary.checkpoints && seeks_ok ? 0 : 1;
 }

@@ -186,6 +186,31 @@ TEST(CuttingScene, TheSameStrokeGivesTheSameStateHash) {
   EXPECT_NE(a.StateHash(), c.StateHash());
 }
 
+// Saved halfway through a stroke (an incision already cut, the blade in it)
+// and restored into a new scene: it cuts on exactly as the scene would
+// have, topology and all (a plain copy would find no room for new nodes).
+TEST(CuttingScene, AStateSavedMidIncisionAndRestoredCutsOnAsTheSceneWould) {
+  const auto stroke = Stroke({-0.012, -0.0021}, 0.4, 0.018);
+  const auto half = stroke.begin() + static_cast<std::ptrdiff_t>(stroke.size() / 2);
+  const std::vector<ToolInput> first(stroke.begin(), half), rest(half, stroke.end());
+  CuttingScene reference{CuttingParams{}};
+  Drive(reference, stroke);
+
+  auto original = std::make_unique<CuttingScene>(CuttingParams{});
+  Drive(*original, first);
+  ASSERT_EQ(CountEvents(*original, SceneEventKind::kCutStart), 1) << "the state is to be saved mid-incision";
+  const std::uint64_t topology_edits = original->Topology().Version();
+  const std::unique_ptr<const Scene> saved = original->SaveState();
+  original.reset();
+  CuttingScene restored{CuttingParams{}};
+  restored.RestoreState(*saved);
+  Drive(restored, rest);
+  EXPECT_GT(restored.Topology().Version(), topology_edits);  // it went on cutting
+  EXPECT_EQ(restored.StateHash(), reference.StateHash());
+  EXPECT_TRUE(restored.Vertices_m() == reference.Vertices_m());
+  EXPECT_EQ(restored.Topology().Version(), reference.Topology().Version());
+}
+
 TEST(CuttingScene, StrokesOffThePatchOverAWoundAndANanPoseBreakNothing) {
   CuttingScene scene{CuttingParams{}};
   Drive(scene, Stroke({0.02, 0.0}, 0.0, 0.02));            // runs off the patch's +x border

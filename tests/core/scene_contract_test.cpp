@@ -168,6 +168,49 @@ TEST_P(SceneContract, ResetReturnsTheHashOfAFreshScene) {
   EXPECT_EQ(RunScript(*used, script_).back(), RunScript(*fresh, script_).back());
 }
 
+// A state saved mid-contact and restored into a freshly built scene goes on
+// exactly as the scene would have: the same hash after every later tick as a
+// never-saved run, with the original gone (nothing in the saved state points
+// into it), and without allocating (the restored scene keeps its headroom).
+TEST_P(SceneContract, AStateSavedMidContactAndRestoredGoesOnAsTheSceneWould) {
+  const std::size_t half = script_.size() / 2;
+  const std::vector<ToolInput> first(script_.begin(), script_.begin() + static_cast<std::ptrdiff_t>(half));
+  const std::vector<ToolInput> rest(script_.begin() + static_cast<std::ptrdiff_t>(half), script_.end());
+  auto reference = Fresh(GetParam());
+  RunScript(*reference, first);
+  const std::vector<std::uint64_t> expected = RunScript(*reference, rest);
+
+  auto original = Fresh(GetParam());
+  RunScript(*original, first);
+  ASSERT_GT(original->Status().tip_depth_m, 0.0) << "the state is to be saved with the tool in the tissue";
+  const std::uint64_t saved_hash = original->StateHash();
+  std::unique_ptr<const Scene> saved = original->SaveState();
+  original.reset();
+  auto restored = Fresh(GetParam());
+  restored->RestoreState(*saved);
+  EXPECT_EQ(restored->StateHash(), saved_hash);
+  std::vector<std::uint64_t> hashes(rest.size());
+  std::uint64_t allocations = 0;
+  {
+    hapsim::test::ScopedAllocationCount count;
+    for (std::size_t k = 0; k < rest.size(); ++k) {
+      restored->Step(rest[k], kTick_s);
+      hashes[k] = restored->StateHash();
+    }
+    allocations = count.Count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  for (std::size_t k = 0; k < rest.size(); ++k) ASSERT_EQ(hashes[k], expected[k]) << "first divergence at tick " << k;
+  EXPECT_TRUE(restored->Vertices_m() == reference->Vertices_m());
+  EXPECT_EQ(restored->Topology().Version(), reference->Topology().Version());
+}
+
+TEST_P(SceneContract, AStateSavedFromAnotherKindOfSceneIsRefused) {
+  const std::string other = GetParam() == "tissue_block" ? "acupuncture" : "tissue_block";
+  auto scene = Fresh(GetParam());
+  EXPECT_THROW(scene->RestoreState(*Fresh(other)->SaveState()), std::invalid_argument);
+}
+
 // The same golden hash whichever MSM spring kernel the scenes' workspaces
 // pick (the CPU's fastest, or the portable one every x86-64 CPU runs).
 TEST_P(SceneContract, ScriptEndsInTheGoldenHash) {

@@ -93,6 +93,13 @@ for rc in replays:
     r = replay_of(f"{name}.out")
     check(exit_code(work, name) == 0 and r is not None and r[2] == r[3] and r[3] > 0,
           f"{name}: every checkpoint reached ({r})")
+other = sorted(glob.glob(f"{work}/otherlibm_*.rc"))
+check(len(other) == len(replays), f"{len(other)} recordings replayed again under GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA")
+for rc in other:
+    name = os.path.basename(rc)[:-3]
+    r = replay_of(f"{name}.out")
+    check(exit_code(work, name) == 0 and r is not None and r[2] == r[3] and r[3] > 0,
+          f"{name}: every checkpoint reached on the other math paths ({r})")
 resumed = [replay_of(f"{os.path.basename(rc)[:-3]}.out") for rc in replays if "data_recordings_t1" in rc]
 check(any(r and r[4] >= 1 for r in resumed), "t1's running trial spans the kill: it holds a resume mark")
 # Replays in the server.
@@ -115,6 +122,33 @@ check(stepped.get("paused") == "1" and abs(float(stepped.get("trial_s", "-1")) -
       f"a paused replay stepped 500 ticks is 0.500 s into the trial ({stepped.get('trial_s')})")
 check(sought.get("paused") == "1" and abs(float(sought.get("trial_s", "-1")) - 2.0) < 1e-9,
       f"sought to 2 s it is there, still paused ({sought.get('trial_s')})")
+check(sought.get("rerun_ticks") == "2000", f"the first seek re-ran the trial's first 2 s ({sought.get('rerun_ticks')})")
+back, back_stepped = replay_fields("play_back"), replay_fields("play_back_stepped")
+check(exit_code(work, "play_back") == 0 and abs(float(back.get("trial_s", "-1")) - 1.2) < 1e-9
+      and 0 < int(back.get("rerun_ticks", "-1")) < 500 and int(back.get("kept_states", "0")) >= 2,
+      f"seeking back to 1.2 s re-ran only {back.get('rerun_ticks')} ticks, from one of the "
+      f"{back.get('kept_states')} states kept at checkpoints (checkpoints every 500 ticks)")
+check(back_stepped.get("diverged") == "0" and int(back_stepped.get("matched", "0")) >= 1,
+      f"600 ticks on from there the replay reaches the recorded hashes ({back_stepped})")
 check(exit_code(work, "play_close") == 0, "the instructor closed the replay")
+if os.path.exists(f"{work}/console_past.rc"):  # built with the viewer GUI
+    console = read_text(work, "console_past.out")
+    print(console.strip())
+    m = re.search(r"viewer: session (replay-\d+), frames (\d+)", console)
+    check(exit_code(work, "console_past") == 0 and m is not None and int(m.group(2)) >= 30,
+          f"the console opened t1's past trial as {m.group(1) if m else '?'} and watched "
+          f"{m.group(2) if m else 0} frames")
+    p = re.search(r"past trials (\d+) listed, replays opened 1, (replay-\d+) of (\S+) at [0-9.]+/[0-9.]+ s, "
+                  r"checkpoints (\d+) matched 0 diverged", console)
+    t1_0 = next((l.split()[0] for l in read_text(work, "recordings.out").splitlines()
+                 if len(l.split()) > 2 and l.split()[1] == "t1" and l.split()[2] == "0"), None)
+    check(p is not None and int(p.group(1)) >= 4 and p.group(3) == t1_0 and int(p.group(4)) >= 1,
+          f"it listed the class's trials and its replay reached the recorded hashes ({p.group(0) if p else None})")
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from png_image import pixel, read_png
+    image = read_png(f"{work}/past_trial.png")
+    colours = {pixel(image, x, y) for x in range(0, 1280, 16) for y in range(0, 720, 16)}
+    check(len(colours) > 50, f"the console's picture of the replay is not blank ({len(colours)} colours)")
+    check(exit_code(work, "console_replay_closed") != 0, "closing the console closed its replay on the server")
 check(server_rc == 0, f"the second server exited 0 ({server_rc})")
 finish()

@@ -12,7 +12,8 @@
 #    from the database, identical to before the kill;
 #  - the recordings are listed, fetched over gRPC, and every one replays with
 #    hapsim-replay to every recorded state hash — t1's second trial across the
-#    kill (a resume mark in it) included; a trainee sees only its own, an
+#    kill (a resume mark in it) included, and again under glibc's other math
+#    paths (as on another CPU); a trainee sees only its own, an
 #    observer cannot delete, a running trial's recording cannot be deleted,
 #    an ended one can.
 # Bounded (about 25 s); everything on 127.0.0.1.
@@ -66,7 +67,7 @@ run recordings_other as trainee2 recordings t1
 run observer_delete as observer delete-recording "$(awk '$2 == "t1" && $3 == "0" {print $1}' recordings.out)"
 run delete_running as instructor delete-recording "$(awk '$2 == "t2" && $NF == "open" {print $1; exit}' recordings.out)"
 # Replays in the server: t1's ended trial 0 at 4x, watched by its trainee;
-# t2's trial paused, stepped and sought.
+# t2's trial paused, stepped, sought forward and back (from a kept state).
 t1_0=$(awk '$2 == "t1" && $3 == "0" {print $1}' recordings.out)
 t2_0=$(awk '$2 == "t2" {print $1; exit}' recordings.out)
 run play_open as trainee1 replay "$t1_0" --speed 4
@@ -83,7 +84,22 @@ run play_stepped as instructor replay-info "$paused_id"
 run play_seek as instructor seek "$paused_id" --to-s 2.0
 sleep 0.3
 run play_sought as instructor replay-info "$paused_id"
+# Back to 1.2 s: from the state kept at a checkpoint the first seek passed;
+# then 600 ticks on reach the next recorded hash (checkpoints every 0.5 s).
+run play_back as instructor seek "$paused_id" --to-s 1.2
+run play_back_step as instructor step "$paused_id" --ticks 600
+sleep 1.0
+run play_back_stepped as instructor replay-info "$paused_id"
 run play_close as instructor close "$paused_id"
+# The instructor's console opens t1's past trial 0 from its Past trials list
+# (--open-trial takes the Open button's path) and watches it, off screen.
+if grep -q -- "--png" <<<"$("$bin/hapsim-viewer" --help)"; then
+  "$bin/hapsim-viewer" --headless --server "$addr" "${tls[@]}" --token-file class/tokens/instructor.token \
+      --class acu-201 --open-trial "$t1_0" --seconds 3 --size 1280x720 --png past_trial.png \
+      >console_past.out 2>console_past.err && echo 0 >console_past.rc || echo $? >console_past.rc
+  console_replay=$(sed -n 's/^viewer: session \(replay-[0-9]*\),.*/\1/p' console_past.out)
+  run console_replay_closed as instructor replay-info "${console_replay:-none}"
+fi
 mkdir -p fetched
 while read -r id session trial _; do
   [ "$id" = id ] && continue
@@ -97,6 +113,8 @@ mv server.log server2.log
 for f in data/recordings/*/*.hrec fetched/*.hrec data_after_kill/recordings/*/*.hrec; do
   name=$(echo "$f" | tr '/' '_')
   run "replay_$name" "$bin/hapsim-replay" "$f"
+  # As on a CPU without AVX2/FMA (glibc's other math paths): the same hashes.
+  run "otherlibm_$name" env GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA "$bin/hapsim-replay" "$f"
 done
 # Deleting an ended trial's recording works once its trial is over (server 3, no devices).
 start_server "" "${server_flags[@]}"

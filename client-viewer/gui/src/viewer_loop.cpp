@@ -95,7 +95,12 @@ bool ViewerLoop::Start(std::string* error) {
     live_.SetConnection("replay of " + options_.replay_path);
   else
     Watch(watched_);
-  if (console_) board_ = std::make_unique<ClassBoard>(options_.connection, options_.class_name, options_.class_rate_hz);
+  if (console_) {
+    board_ = std::make_unique<ClassBoard>(options_.connection, options_.class_name, options_.class_rate_hz);
+    past_ = std::make_unique<PastTrials>(options_.connection, options_.class_name);
+    past_->Refresh();
+    if (!options_.open_trial.empty()) past_->Open(options_.open_trial);
+  }
   if (!replaying_) controls_ = std::make_unique<SessionControls>(options_.connection);
   start_ = last_ = Clock::now();
   if (replaying_ && (still_ || options_.benchmark_seconds > 0.0)) replay_->PlayAll(&live_);
@@ -122,8 +127,25 @@ void ViewerLoop::PickFirstSession() {
   picked_first_ = true;
 }
 
+void ViewerLoop::FollowPastTrials() {
+  if (!past_) return;
+  const std::uint64_t opened = past_view_.opened;
+  past_view_ = past_->Snapshot();
+  if (past_view_.opened != opened && past_view_.replay) {
+    Watch(past_view_.replay->session().session_id());
+    fitted_ = options_.camera.has_value();
+    picked_first_ = true;  // the replay, not the class's first trainee
+  }
+  const auto now = Clock::now();
+  if (past_view_.replay && now - past_polled_ > std::chrono::milliseconds(500)) {
+    past_->PollReplay();
+    past_polled_ = now;
+  }
+}
+
 bool ViewerLoop::Run() {
   while (true) {
+    FollowPastTrials();
     PickFirstSession();
     if (surface_.window && !PollWindow()) break;
     if (replaying_ && !still_ && options_.benchmark_seconds == 0.0) {
@@ -239,6 +261,13 @@ void ViewerLoop::DrawPanels(int panel_w) {
       fitted_ = options_.camera.has_value();
     }
   }
+  if (console_ && ImGui::CollapsingHeader("Past trials", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const std::string clicked = DrawPastTrials(past_view_, watched_, past_.get(), &past_panel_);
+    if (!clicked.empty() && clicked != watched_) {
+      Watch(clicked);
+      fitted_ = options_.camera.has_value();
+    }
+  }
   if (!watched_.empty() || replaying_) {
     if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen))
       DrawSessionPanel(scene_, replaying_ ? "(recording)" : watched_,
@@ -320,6 +349,19 @@ void ViewerLoop::PrintSummary() {
                 static_cast<unsigned long long>(class_view.updates), class_view.sessions.size(),
                 class_view.missing.size(), class_view.connection.c_str());
   }
+  if (past_) {
+    const PastTrials::View past = past_->Snapshot();
+    std::printf("viewer: past trials %zu listed, replays opened %llu", past.trials.size(),
+                static_cast<unsigned long long>(past.opened));
+    if (past.replay) {
+      const auto& r = *past.replay;
+      std::printf(", %s of %s at %.3f/%.3f s, checkpoints %llu matched %llu diverged", r.session().session_id().c_str(),
+                  r.recording_id().c_str(), r.trial_s(), r.trial_length_s(),
+                  static_cast<unsigned long long>(r.checkpoints_matched()),
+                  static_cast<unsigned long long>(r.checkpoints_diverged()));
+    }
+    std::printf("%s%s\n", past.last_result.empty() ? "" : "; last: ", past.last_result.c_str());
+  }
   std::fflush(stdout);
 }
 
@@ -330,6 +372,7 @@ std::optional<viewer::CompactMesh> ViewerLoop::TakeFinalMesh() {
 void ViewerLoop::Release() {
   stream_.reset();
   board_.reset();
+  past_.reset();  // closes the replay it opened
   renderer_.reset();
 }
 

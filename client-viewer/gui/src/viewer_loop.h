@@ -15,6 +15,7 @@
 #include "hapsim/gui/gl_context.h"
 #include "hapsim/gui/live_scene.h"
 #include "hapsim/gui/orbit_camera.h"
+#include "hapsim/gui/past_trials.h"
 #include "hapsim/gui/redraw_policy.h"
 #include "hapsim/gui/scene_renderer.h"
 #include "hapsim/gui/stream_worker.h"
@@ -60,6 +61,7 @@ class ViewerLoop {
 
   void Watch(const std::string& session);
   void PickFirstSession();
+  void FollowPastTrials();  // watches a replay once opened; keeps its progress fresh
   bool PollWindow();  // false when the window was closed
   bool TimeUp(double elapsed_s) const;
   bool DueForDraw(double elapsed_s);
@@ -89,6 +91,10 @@ class ViewerLoop {
   std::unique_ptr<StreamWorker> stream_;
   std::unique_ptr<ClassBoard> board_;
   std::unique_ptr<SessionControls> controls_;
+  std::unique_ptr<PastTrials> past_;
+  PastTrials::View past_view_;
+  PastTrialsPanel past_panel_;
+  Clock::time_point past_polled_;
 
   OrbitCamera camera_;
   bool fitted_ = false;

@@ -25,44 +25,51 @@ void ReplayCalls::ForgetClosedLocked() {
 }
 
 void ReplayCalls::Start(const std::string& id, const StoredRecording& recording, const std::string& recording_id,
-                        double speed, bool paused, double start_s) {
+                        double speed, bool paused, double start_s, std::shared_ptr<CheckpointStates> kept) {
   if (!(speed >= kMinSpeed && speed <= kMaxSpeed)) {
     throw ServiceError(ErrorCode::kInvalidArgument, "replay speed must be within [0.1, 10]");
   }
   if (!(start_s >= 0.0 && start_s <= 1e7)) throw ServiceError(ErrorCode::kInvalidArgument, "start must be >= 0 s");
   std::shared_ptr<RecordingPlayer> player;
   std::unique_ptr<core::Scene> scene;
-  RecordingHeader header;
+  std::uint64_t rerun_ticks = 0;
   // Reading, checking and (to start later than the beginning) re-running the
   // trial to there: seconds for a long trial, so below the ticks' priority.
   RunAtLowPriority([&] {
     auto bytes = ReadRecordingBytes(recording.path);
-    header = ReadRecordingHeader(bytes);
+    const RecordingHeader header = ReadRecordingHeader(bytes);
     const auto start_tick =
         header.first_tick + static_cast<std::uint64_t>(std::llround(start_s / header.tick_period_s));
-    if (start_tick > header.first_tick) {
-      ReplayOptions options;
-      options.until_tick = start_tick - 1;
-      ReplayResult before = Replay(bytes, options);
-      if (!before.ok()) {
-        throw ServiceError(
-            ErrorCode::kFailedPrecondition,
-            "the recording diverges from its own state hashes after tick " + std::to_string(before.mismatch->tick));
-      }
-      if (before.ticks_run != start_tick - header.first_tick) {
-        throw ServiceError(ErrorCode::kInvalidArgument,
-                           "the trial is " + std::to_string(before.ticks_run * header.tick_period_s) + " s long");
-      }
-      scene = std::move(before.scene);
-    } else {
-      scene = core::MakeScene({header.scene, header.params});
-    }
     try {
       player = std::make_shared<RecordingPlayer>(std::move(bytes), start_tick);
     } catch (const std::invalid_argument& e) {
-      throw ServiceError(ErrorCode::kInvalidArgument, e.what());
+      throw ServiceError(ErrorCode::kInvalidArgument, std::string("no such moment in the trial: ") + e.what());
     }
+    if (!kept) {
+      kept = std::make_shared<CheckpointStates>(
+          header.first_tick,
+          CheckpointStates::SpacingFor(player->summary().ticks, CheckpointStates::kDefaultMaxStates, 1));
+    }
+    if (start_tick == header.first_tick) {
+      scene = core::MakeScene({header.scene, header.params});
+      return;
+    }
+    ReplayOptions options;
+    options.until_tick = start_tick - 1;
+    if (const auto nearest = kept->Nearest(start_tick)) options.from = {nearest->scene, nearest->next_tick};
+    options.after_matched_checkpoint = [&](const RecordedCheckpoint& c, const core::Scene& at) {
+      kept->Offer(c.tick + 1, at);
+    };
+    ReplayResult before = Replay(player->bytes(), options);
+    if (!before.ok()) {
+      throw ServiceError(
+          ErrorCode::kFailedPrecondition,
+          "the recording diverges from its own state hashes after tick " + std::to_string(before.mismatch->tick));
+    }
+    rerun_ticks = before.ticks_run;
+    scene = std::move(before.scene);
   });
+  const RecordingHeader& header = player->header();
   SessionSeed seed;
   seed.scene = std::move(scene);
   seed.paused = paused;
@@ -77,7 +84,7 @@ void ReplayCalls::Start(const std::string& id, const StoredRecording& recording,
     policy_->RemoveReplay(id);
     throw;
   }
-  replays_[id] = Playing{recording_id, header.session_id, speed, std::move(player)};
+  replays_[id] = Playing{recording_id, header.session_id, speed, std::move(player), std::move(kept), rerun_ticks};
 }
 
 std::pair<std::shared_ptr<Session>, ReplayCalls::Playing> ReplayCalls::FindReplay(const grpc::ServerContext* context,
@@ -105,6 +112,8 @@ void ReplayCalls::Describe(const Session& session, const Playing& replay, hapsim
   out->set_checkpoints_matched(progress.checkpoints_matched);
   out->set_checkpoints_diverged(progress.checkpoints_diverged);
   out->set_ended(progress.ended);
+  out->set_rerun_ticks(replay.rerun_ticks);
+  out->set_kept_states(replay.kept->size());
 }
 
 grpc::Status ReplayCalls::OpenReplay(grpc::ServerContext* context, const hapsim::v1::OpenReplayRequest* req,
@@ -122,8 +131,8 @@ grpc::Status ReplayCalls::OpenReplay(grpc::ServerContext* context, const hapsim:
       do {
         id = "replay-" + std::to_string(next_id_++);
       } while (registry_->Find(id));
-      Start(id, recording, req->recording_id(), req->speed() == 0.0 ? 1.0 : req->speed(), req->paused(),
-            req->start_s());
+      Start(id, recording, req->recording_id(), req->speed() == 0.0 ? 1.0 : req->speed(), req->paused(), req->start_s(),
+            nullptr);
     }
     const auto [session, replay] = FindReplay(context, id, Action::kView);
     Describe(*session, replay, out);
@@ -162,7 +171,7 @@ grpc::Status ReplayCalls::SeekReplay(grpc::ServerContext* context, const hapsim:
       std::lock_guard lock(mutex_);
       registry_->Close(req->session_id());  // the same id goes on at the new moment
       replays_.erase(req->session_id());
-      Start(req->session_id(), recording, replay.recording_id, replay.speed, paused, req->trial_s());
+      Start(req->session_id(), recording, replay.recording_id, replay.speed, paused, req->trial_s(), replay.kept);
     }
     const auto [again, now] = FindReplay(context, req->session_id(), Action::kView);
     Describe(*again, now, out);

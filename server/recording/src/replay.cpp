@@ -8,12 +8,15 @@ ReplayResult Replay(std::span<const std::uint8_t> recording, const ReplayOptions
   const auto start = std::chrono::steady_clock::now();
   ReplayResult r;
   const RecordingHeader header = ReadRecordingHeader(recording);
+  const std::uint64_t from_tick = options.from.scene ? options.from.next_tick : 0;
   r.scene = core::MakeScene({header.scene, header.params});
+  if (options.from.scene) r.scene->RestoreState(*options.from.scene);
   const double period_s = header.tick_period_s;
   bool stopped = false;
   RecordingVisitor visitor;
   visitor.ticks = [&](std::span<const TickInput> ticks) {
     for (const TickInput& in : ticks) {
+      if (in.tick < from_tick) continue;
       if (stopped || in.tick > options.until_tick) {
         stopped = true;
         return;
@@ -29,6 +32,7 @@ ReplayResult Replay(std::span<const std::uint8_t> recording, const ReplayOptions
     const std::uint64_t replayed = r.scene->StateHash();
     if (replayed == c.state_hash) {
       ++r.checkpoints_matched;
+      if (options.after_matched_checkpoint) options.after_matched_checkpoint(c, *r.scene);
     } else {
       r.mismatch = HashMismatch{c.tick, c.state_hash, replayed};
       stopped = true;

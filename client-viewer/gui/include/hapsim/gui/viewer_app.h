@@ -19,6 +19,7 @@ struct GuiOptions {
   viewer::ViewerOptions viewer;  // session (empty with a class: its first session once listed), name, rate, ack window
   std::string class_name;           // the instructor's class console ("" none)
   double class_rate_hz = 10.0;
+  std::string open_trial;           // with a class: the recorded trial to open as a replay ("latest": the newest ended)
   std::string replay_path;          // play a recording instead of a server stream
   std::string record_path;          // record the stream here
   std::string png_path;             // the last frame as a picture

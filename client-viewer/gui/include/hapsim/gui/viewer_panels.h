@@ -8,6 +8,7 @@
 
 #include "hapsim/gui/class_board.h"
 #include "hapsim/gui/live_scene.h"
+#include "hapsim/gui/past_trials.h"
 #include "hapsim/gui/scene_renderer.h"
 #include "hapsim/viewer/session_client.h"
 
@@ -67,5 +68,16 @@ TileGrid ClassTileGrid(float avail_px, float spacing_px);
 // Tiles of every session of the class; returns the id the instructor
 // clicked to watch ("" when none was clicked).
 std::string DrawClassConsole(const ClassView& view, const std::string& watched, SessionControls* controls);
+
+// The console's past trials (past_trials_panel.cpp): the class's recorded
+// trials with an Open button each, and the open replay's progress against
+// its recorded state hashes with play/pause, step, a seek slider and close.
+// Returns the replay session to watch when its Watch button was clicked ("").
+struct PastTrialsPanel {
+  float seek_s = 0.0f;  // the slider while dragged
+  bool dragging = false;
+};
+std::string DrawPastTrials(const PastTrials::View& view, const std::string& watched, PastTrials* past,
+                           PastTrialsPanel* panel);
 
 }  // namespace hapsim::gui

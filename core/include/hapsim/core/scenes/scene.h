@@ -123,6 +123,16 @@ class Scene {
   // Never allocates; O(state size) — tens of µs for the default scenes, so
   // call it at checkpoints (tests, recordings), not necessarily every tick.
   virtual std::uint64_t StateHash() const = 0;
+
+  // The whole state as it is now, kept aside (for seeking in a replay): a
+  // copy sized to its contents, so it cannot be stepped (it is const; the
+  // headroom Step() relies on is not in it). RestoreState() puts it back
+  // into a scene built from the same SceneSpec, which then goes on exactly
+  // as this one would: the same StateHash() after every step, and Step()
+  // still allocating nothing. Both allocate: never on a tick.
+  virtual std::unique_ptr<const Scene> SaveState() const = 0;
+  // Throws std::invalid_argument for a state saved from another kind of scene.
+  virtual void RestoreState(const Scene& saved) = 0;
 };
 
 // Which scene to build and its parameters (SI, names with units, e.g.

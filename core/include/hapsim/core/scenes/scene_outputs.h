@@ -4,10 +4,12 @@
 // from SceneWithOutputs, fills outputs_ in Step() and clears it with
 // FinishReset(); the getters are written once, here.
 #pragma once
-#include <cstdint>
-#include <span>
-
 #include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
 
 #include "hapsim/core/haptics/local_force_model.h"
 #include "hapsim/core/scenes/event_log.h"
@@ -24,6 +26,21 @@ struct SceneOutputs {
   SceneStatus status;
   ResetEpoch reset_epoch;  // the running totals at the last Reset() (StateHash)
 };
+
+// Scene::RestoreState() for a scene S: the saved copy assigned to it.
+// Assignment keeps this scene's capacities (a vector assigned fewer
+// elements than it holds room for keeps its room), so the restored scene's
+// Step() never allocates and the cutting scene keeps room for new nodes; a
+// copy would have neither.
+template <class S>
+void AssignSavedState(S& scene, const Scene& saved) {
+  const auto* same = dynamic_cast<const S*>(&saved);
+  if (same == nullptr) {
+    throw std::invalid_argument(std::string("a saved state of another kind of scene cannot be restored into ") +
+                                std::string(scene.Name()));
+  }
+  scene = *same;
+}
 
 // The base of every scene: Scene's output getters, served from outputs_.
 class SceneWithOutputs : public Scene {

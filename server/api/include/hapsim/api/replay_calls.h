@@ -3,8 +3,10 @@
 // recording's inputs (a RecordingPlayer) at a chosen speed; viewers
 // subscribe to it like to a live session, PauseSession/ResumeSession/
 // ResetSession/CloseSession drive it, StepReplay plays single ticks while
-// paused, SeekReplay re-runs the trial to another moment (off the tick, at
-// low priority) and continues from there. Access: as the recorded session.
+// paused, SeekReplay goes to another moment: it restores the nearest state
+// kept at a checkpoint earlier re-runs passed (CheckpointStates) and re-runs
+// the trial only from there (off the tick, at low priority). Access: as the
+// recorded session.
 #pragma once
 #include <cstdint>
 #include <map>
@@ -13,6 +15,7 @@
 #include <string>
 
 #include "hapsim/api/recording_calls.h"
+#include "hapsim/recording/checkpoint_states.h"
 #include "hapsim/recording/recording_player.h"
 #include "hapsim/runtime/session_registry.h"
 
@@ -36,10 +39,13 @@ class ReplayCalls {
     std::string recorded_session_id;
     double speed = 1.0;
     std::shared_ptr<RecordingPlayer> player;
+    std::shared_ptr<CheckpointStates> kept;  // kept across the replay's seeks
+    std::uint64_t rerun_ticks = 0;           // re-run to reach where the last open or seek started
   };
-  // Builds the session `id` playing the recording from `start_tick`.
+  // Builds the session `id` playing the recording from `start_s` into the
+  // trial, from the nearest of the `kept` states (null: a new replay).
   void Start(const std::string& id, const StoredRecording& recording, const std::string& recording_id, double speed,
-             bool paused, double start_s);
+             bool paused, double start_s, std::shared_ptr<CheckpointStates> kept);
   // The replay session `id` (throws kNotFound), after checking `action` on it.
   std::pair<std::shared_ptr<Session>, Playing> FindReplay(const grpc::ServerContext* context, const std::string& id,
                                                           Action action);

@@ -27,6 +27,7 @@ class RecordingPlayer final : public TickInputSource, public TickListener {
 
   const RecordingSummary& summary() const { return summary_; }
   const RecordingHeader& header() const { return summary_.header; }
+  std::span<const std::uint8_t> bytes() const { return bytes_; }  // the whole file
 
   // Tick worker (TickInputSource, TickListener).
   bool Next(TickInput* in) override;

@@ -19,8 +19,19 @@ namespace hapsim::service {
 
 struct ReplayOptions {
   std::uint64_t until_tick = std::numeric_limits<std::uint64_t>::max();  // stop after this tick
+  // Where to start: a fresh scene before the trial's first tick (the
+  // default), or `scene` restored (a Scene::SaveState() of the trial's state
+  // before `next_tick`; the ticks before it are read and checked, not run).
+  // Borrowed for the call.
+  struct From {
+    const core::Scene* scene = nullptr;
+    std::uint64_t next_tick = 0;
+  };
+  From from;
   // After each tick's step (to watch, pace or step through a replay).
   std::function<void(const TickInput&, const core::Scene&)> after_tick;
+  // After each checkpoint reached with the recorded hash (to keep states to seek to).
+  std::function<void(const RecordedCheckpoint&, const core::Scene&)> after_matched_checkpoint;
 };
 
 struct HashMismatch {
@@ -32,7 +43,7 @@ struct HashMismatch {
 struct ReplayResult {
   RecordingSummary summary;
   std::unique_ptr<core::Scene> scene;  // as after the last tick run
-  std::uint64_t ticks_run = 0;
+  std::uint64_t ticks_run = 0;         // stepped (from options.from on)
   std::uint64_t checkpoints_matched = 0;
   std::optional<HashMismatch> mismatch;
   std::optional<TickInput> last_input;  // the last tick run

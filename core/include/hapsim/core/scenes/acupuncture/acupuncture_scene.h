@@ -63,6 +63,8 @@ class AcupunctureScene final : public SceneWithOutputs {
   const Eigen::Matrix3Xd& Vertices_m() const override { return vertices_m_; }
   const MeshTopology& Topology() const override { return topology_; }
   std::uint64_t StateHash() const override;
+  std::unique_ptr<const Scene> SaveState() const override { return std::make_unique<const AcupunctureScene>(*this); }
+  void RestoreState(const Scene& saved) override { AssignSavedState(*this, saved); }
 
   // Diagnostics for validation and tests.
   const AcupunctureParams& Params() const { return params_; }

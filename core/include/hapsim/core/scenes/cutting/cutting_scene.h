@@ -35,6 +35,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,8 @@ class CuttingScene final : public SceneWithOutputs {
   const Eigen::Matrix3Xd& Vertices_m() const override { return skin_.state.x_m; }
   const MeshTopology& Topology() const override { return skin_.topology; }
   std::uint64_t StateHash() const override;
+  std::unique_ptr<const Scene> SaveState() const override { return std::make_unique<const CuttingScene>(*this); }
+  void RestoreState(const Scene& saved) override { AssignSavedState(*this, saved); }
 
   // For validation and tests.
   const CuttingParams& Params() const { return params_; }

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,8 @@ class TissueBlockScene final : public SceneWithOutputs {
   const Eigen::Matrix3Xd& Vertices_m() const override { return state_.x_m; }
   const MeshTopology& Topology() const override { return topology_; }
   std::uint64_t StateHash() const override;
+  std::unique_ptr<const Scene> SaveState() const override { return std::make_unique<const TissueBlockScene>(*this); }
+  void RestoreState(const Scene& saved) override { AssignSavedState(*this, saved); }
 
   // For tests and tools.
   const MsmModel& Model() const { return model_; }

@@ -71,6 +71,8 @@ class VesselScene final : public SceneWithOutputs {
   const Eigen::Matrix3Xd& Vertices_m() const override { return surface_m_; }
   const MeshTopology& Topology() const override { return topology_; }
   std::uint64_t StateHash() const override;
+  std::unique_ptr<const Scene> SaveState() const override { return std::make_unique<const VesselScene>(*this); }
+  void RestoreState(const Scene& saved) override { AssignSavedState(*this, saved); }
 
   // For tests, validation and benchmarks.
   const VesselGeometry& Geometry() const { return geometry_; }
