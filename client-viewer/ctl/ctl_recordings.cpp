@@ -6,7 +6,7 @@
 #include <cstdlib>
 
 #include "ctl_commands.h"
-#include "hapsim/common/clock.h"
+#include "hapsim/common/local_time.h"
 
 namespace hapsim::ctl {
 

@@ -4,7 +4,7 @@
 #include <cinttypes>
 #include <utility>
 
-#include "hapsim/common/clock.h"
+#include "hapsim/common/local_time.h"
 #include "hapsim/gui/viewer_panels.h"
 
 namespace hapsim::gui {
