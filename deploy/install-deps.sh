@@ -10,8 +10,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libtomlplusplus-dev libssl-dev openssl libtinygltf-dev nlohmann-json3-dev prometheus-cpp-dev
   libzstd-dev libsqlite3-dev  # trial recordings (zstd blocks), the results database
-  python3 python3-scipy python3-numpy python3-grpcio curl
+  python3 python3-scipy python3-numpy python3-grpcio python3-yaml curl
   iproute2  # the network lab (netlab/netlab.sh): ip netns, TUN devices
+  yamllint  # the Kubernetes manifests' check (tests/install/check_k8s.py)
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
 )
