@@ -13,6 +13,7 @@ packages=(
   python3 python3-scipy python3-numpy python3-grpcio python3-yaml curl
   iproute2  # the network lab (netlab/netlab.sh): ip netns, TUN devices
   yamllint  # the Kubernetes manifests' check (tests/install/check_k8s.py)
+  file      # CPack's DEB generator reads the programs' type before dpkg-shlibdeps (deploy/make-deb.sh)
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
 )
