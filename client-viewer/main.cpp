@@ -5,6 +5,8 @@
 // end (--frames, --seconds or SIGINT/SIGTERM), writes it as OBJ/glTF/VTK and
 // prints frame, byte and gap counts; add --png/--plot-png for pictures drawn
 // off screen (no display needed).
+#include <spdlog/spdlog.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +15,8 @@
 
 #include "hapsim/common/flags.h"
 #include "hapsim/common/logging.h"
+#include "hapsim/viewer/session_client.h"
+#include "hapsim/viewer/session_locator.h"
 #include "hapsim/viewer/viewer_client.h"
 #include "headless_viewer.h"
 #ifdef HAPSIM_WITH_VIEWER_GUI
@@ -199,6 +203,23 @@ std::string CheckViewerFlags(ViewerFlags* f) {
   return "";
 }
 
+// A watched session on another server of the site than --server names: the
+// viewer connects to that one. -1 to go on, else the exit code.
+int FollowSession(ViewerFlags* f) {
+  if (f->options.session.empty() || !f->class_name.empty() || !f->replay_path.empty()) return -1;
+  const auto location = hapsim::viewer::LocateSession(f->connection, f->options.session, f->options.connect_timeout_s,
+                                                      /*wait_for_server=*/true);
+  if (hapsim::viewer::LocateStopsTheClient(location)) {
+    std::fprintf(stderr, "hapsim-viewer: %s\n", hapsim::viewer::DescribeStatus(location.status).c_str());
+    return 1;
+  }
+  if (location.moved) {
+    spdlog::info("{}: connecting there", hapsim::viewer::DescribeLocation(location));
+    f->connection = location.connection;
+  }
+  return -1;
+}
+
 #ifdef HAPSIM_WITH_VIEWER_GUI
 hapsim::gui::GuiOptions MakeGuiOptions(const ViewerFlags& f) {
   hapsim::gui::GuiOptions g;
@@ -269,6 +290,7 @@ int main(int argc, char** argv) {
   }
   std::shared_ptr<grpc::Channel> channel;
   try {
+    if (const int exit_code = FollowSession(&f); exit_code >= 0) return exit_code;
     channel = hapsim::viewer::MakeViewerChannel(f.connection);  // unreadable TLS files throw
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-viewer: %s\n", e.what());

@@ -16,7 +16,8 @@
 #   hapsim::device_link  runtime, dds, wire: the DDS adapter — no gRPC
 #   hapsim::streaming runtime, proto, gRPC: frames for viewers — no DDS
 #   hapsim::classroom runtime, toml++ and OpenSSL's crypto (class config,
-#                     token hashes) — no gRPC, no protobuf, no DDS
+#                     server directory, token hashes) — no gRPC, no
+#                     protobuf, no DDS
 #   hapsim::recording runtime + zstd: trial recordings (format, recorder,
 #                     replay) — no gRPC, no DDS, no SQLite
 #   hapsim::store     classroom + SQLite: the results database — no gRPC,
@@ -35,8 +36,9 @@
 #                     top of the mesh cache; the cache and client never include GL
 #   hapsim::netlab    common: the network lab's link emulation (TUN I/O,
 #                     link models) — no simulation, no DDS, no gRPC
-#   executables       their library; hapsim-load adds the viewer's gRPC
-#                     client (to create sessions) but never a server
+#   executables       their library; hapsim-load (to create sessions) and
+#                     hapsim-bridge (--join: locate and join a session)
+#                     add the viewer's gRPC client but never a server
 #                     layer; hapsim-validate core + io.
 include(HapsimLayers)
 
@@ -134,7 +136,7 @@ hapsim_layer_allows(hapsim_load ${_load})
 hapsim_layer_allows(hapsim_viewer ${_viewer})
 hapsim_layer_allows(hapsim_viewer_export ${_viewer_export})
 hapsim_layer_allows(hapsim-server hapsim_app ${_api})
-hapsim_layer_allows(hapsim-bridge ${_bridge})
+hapsim_layer_allows(hapsim-bridge ${_bridge} ${_viewer})
 hapsim_layer_allows(hapsim-load ${_load} ${_viewer})
 if(HAPSIM_WITH_VIEWER_GUI)
   hapsim_layer_allows(hapsim_viewer_gui ${_viewer_export})

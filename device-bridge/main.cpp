@@ -21,6 +21,7 @@
 #include "hapsim/common/session_id.h"
 #include "hapsim/common/shutdown_deadline.h"
 #include "hapsim/servo/servo_loop.h"
+#include "session_join.h"
 #include "stop_on_signal.h"
 
 namespace {
@@ -126,6 +127,7 @@ struct BridgeFlags {
   hapsim::bridge::ScriptFlags script;
   hapsim::bridge::SafetyFlags safety;
   hapsim::bridge::ProcessFlags process;
+  hapsim::bridge::SessionJoiner joiner;  // --join
   bool keep_running = false;
 };
 
@@ -148,6 +150,7 @@ void AddBridgeFlags(hapsim::common::Flags& flags, BridgeFlags* f) {
             "measurement: hold every force model this long before the servo sees it, as a longer link would [ms]");
   hapsim::bridge::AddPoseDeadbandFlags(flags, &f->pose_deadband);
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
+  f->joiner.AddFlags(&flags);
   flags.Add("trace", &f->trace_file, "write a per-tick CSV trace here (first 10 minutes; replayable)");
   hapsim::bridge::AddProcessFlags(flags, &f->process);
 }
@@ -304,8 +307,7 @@ constexpr double kTeardownLimitS = 3.0;
 
 // Every device's servo loop (one thread each; the first on this one) until
 // the scripts end, --seconds pass or a signal comes; the process's exit code.
-int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config,
-              const std::vector<DeviceSpec>& specs) {
+int RunBridge(BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_config, const std::vector<DeviceSpec>& specs) {
   // Outlives the DDS participant, whose deletion can block for good when the
   // network interface has vanished (shutdown_deadline.h).
   hapsim::common::ShutdownDeadline deadline("hapsim-bridge");
@@ -316,6 +318,7 @@ int RunBridge(const BridgeFlags& f, const hapsim::bridge::SafetyConfig& safety_c
       devices.push_back(OpenDevice(f, spec));
       sessions.push_back(spec.session);
     }
+    if (f.joiner.enabled()) f.process.dds_domain = static_cast<int>(f.joiner.JoinAll(sessions));
     hapsim::bridge::BridgeDds dds(f.process.Dds(), static_cast<std::uint32_t>(f.device_id), sessions);
     spdlog::info("DDS domain {} with config: {}", f.process.dds_domain, dds.config_origin());
     dds.Start();

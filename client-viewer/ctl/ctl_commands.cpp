@@ -242,6 +242,22 @@ int RunJoin(CommandCall& call) {
   return 0;
 }
 
+int RunLocate(CommandCall& call) {
+  hapsim::v1::LocateRequest req;
+  req.set_session_id(call.id);
+  hapsim::v1::LocateResponse r;
+  const auto s = call.stub->Locate(&call.context, req, &r);
+  for (const auto& u : r.unreachable()) std::fprintf(stderr, "hapsim-ctl: did not answer: %s\n", u.c_str());
+  if (!s.ok()) return ReportFailure(s);
+  std::printf("session=%s server=%s address=%s on_this_server=%s class=%s\n", r.session_id().c_str(),
+              r.server_name().empty() ? "-" : r.server_name().c_str(), r.address().empty() ? "-" : r.address().c_str(),
+              r.on_this_server() ? "yes" : "no", r.class_name().empty() ? "-" : r.class_name().c_str());
+  for (const auto& other : r.also_on()) {
+    std::fprintf(stderr, "hapsim-ctl: warning: the same session id is also on %s\n", other.c_str());
+  }
+  return 0;
+}
+
 int RunTrials(CommandCall& call) {
   hapsim::v1::TrialQuery q;
   q.set_class_name(call.id);
@@ -290,14 +306,15 @@ const Command* FindCommand(const std::string& name) {
       {"list", {IdArg::kNone, &RunList}},
       {"create", {IdArg::kOptionalId, &RunCreate}},
       {"health", {IdArg::kNone, &RunHealth}},
-      {"info", {IdArg::kOneId, &RunSessionControl}},
-      {"close", {IdArg::kOneId, &RunClose}},
-      {"pause", {IdArg::kOneId, &RunSessionControl}},
-      {"resume", {IdArg::kOneId, &RunSessionControl}},
-      {"reset", {IdArg::kOneId, &RunSessionControl}},
-      {"snapshot", {IdArg::kOneId, &RunSnapshot}},
-      {"score", {IdArg::kOneId, &RunScore}},
-      {"join", {IdArg::kOneId, &RunJoin}},
+      {"locate", {IdArg::kOneId, &RunLocate}},
+      {"info", {IdArg::kOneId, &RunSessionControl, true}},
+      {"close", {IdArg::kOneId, &RunClose, true}},
+      {"pause", {IdArg::kOneId, &RunSessionControl, true}},
+      {"resume", {IdArg::kOneId, &RunSessionControl, true}},
+      {"reset", {IdArg::kOneId, &RunSessionControl, true}},
+      {"snapshot", {IdArg::kOneId, &RunSnapshot, true}},
+      {"score", {IdArg::kOneId, &RunScore, true}},
+      {"join", {IdArg::kOneId, &RunJoin, true}},
       {"scores", {IdArg::kOptionalId, &RunScores}},
       {"watch", {IdArg::kOptionalId, &Watch}},
       {"trials", {IdArg::kOptionalId, &RunTrials}},
@@ -306,9 +323,9 @@ const Command* FindCommand(const std::string& name) {
       {"fetch-recording", {IdArg::kOneId, &RunFetchRecording}},
       {"delete-recording", {IdArg::kOneId, &RunDeleteRecording}},
       {"replay", {IdArg::kOneId, &RunReplay}},
-      {"replay-info", {IdArg::kOneId, &RunReplayInfo}},
-      {"step", {IdArg::kOneId, &RunStep}},
-      {"seek", {IdArg::kOneId, &RunSeek}},
+      {"replay-info", {IdArg::kOneId, &RunReplayInfo, true}},
+      {"step", {IdArg::kOneId, &RunStep, true}},
+      {"seek", {IdArg::kOneId, &RunSeek, true}},
   };
   const auto it = commands.find(name);
   return it == commands.end() ? nullptr : &it->second;

@@ -38,6 +38,9 @@ enum class IdArg { kNone, kOneId, kOptionalId };
 struct Command {
   IdArg id;
   int (*run)(CommandCall& call);
+  // The id is a session's: on a site of several servers, the call goes to
+  // the server that hosts it (SessionService.Locate).
+  bool follows_session = false;
 };
 
 // nullptr for an unknown name.

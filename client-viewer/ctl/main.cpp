@@ -11,6 +11,7 @@
 #include "ctl_commands.h"
 #include "hapsim/common/flags.h"
 #include "hapsim/viewer/connection.h"
+#include "hapsim/viewer/session_locator.h"
 
 namespace {
 
@@ -31,6 +32,8 @@ constexpr const char* kUsage =
     "                                      submit 7 indicator scores (0..10) for a session\n"
     "  scores [ID]                         comprehensive scores of one session or the whole class\n"
     "  join ID                             the DDS partition and domain a device of session ID streams on\n"
+    "  locate ID                           which server of the site runs session ID (servers with --directory;\n"
+    "                                      commands on a session go to that server by themselves)\n"
     "  watch [CLASS] [--rate-hz R] [--count N]\n"
     "                                      live table of every session of CLASS (like top; no CLASS: every\n"
     "                                      session of a server without a class config); --count: stop after N\n"
@@ -144,14 +147,29 @@ int ParseCommand(int argc, char** argv, IdArg id_arg, const std::string& version
   return kGoOn;
 }
 
+// For a command on a session: the server that hosts it, if the asked
+// server's directory names another (kGoOn), or the exit code.
+int FollowSession(const std::string& session_id, GlobalFlags& g) {
+  const auto location = hapsim::viewer::LocateSession(g.connection, session_id, g.timeout_s, /*wait_for_server=*/false);
+  if (hapsim::viewer::LocateStopsTheClient(location)) return hapsim::ctl::ReportFailure(location.status);
+  if (location.moved) {
+    std::fprintf(stderr, "hapsim-ctl: %s\n", hapsim::viewer::DescribeLocation(location).c_str());
+    g.connection = location.connection;
+  }
+  return kGoOn;
+}
+
 // The channel, stub and the call's context (token, --timeout-s deadline): kGoOn or the exit code.
-int OpenCall(GlobalFlags& g, CommandCall* call) {
+int OpenCall(GlobalFlags& g, bool follows_session, CommandCall* call) {
   std::string error;
   if (!hapsim::viewer::FinishConnectionFlags(g.connection_flags, &g.connection, &error)) {
     std::fprintf(stderr, "hapsim-ctl: %s\n", error.c_str());
     return 2;
   }
   try {
+    if (follows_session) {
+      if (const int exit_code = FollowSession(call->id, g); exit_code != kGoOn) return exit_code;
+    }
     call->channel = hapsim::viewer::MakeChannel(g.connection);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "hapsim-ctl: %s\n", e.what());
@@ -187,6 +205,6 @@ int main(int argc, char** argv) {
       exit_code != kGoOn) {
     return exit_code;
   }
-  if (const int exit_code = OpenCall(g, &call); exit_code != kGoOn) return exit_code;
+  if (const int exit_code = OpenCall(g, command->follows_session, &call); exit_code != kGoOn) return exit_code;
   return command->run(call);
 }

@@ -4,6 +4,7 @@
 // and streams mesh frames to viewers over gRPC. SIGINT/SIGTERM stop it
 // cleanly; a one-line-per-session summary goes to stdout at exit.
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <asio/io_context.hpp>
@@ -81,9 +82,18 @@ void PrintHelp(const hapsim::common::Flags& flags) {
   }
 }
 
+// This machine's name: the default --server-name (a StatefulSet pod's name is its hostname).
+std::string HostName() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "hapsim-server";
+  return name;
+}
+
 // Flags that ServerOptions holds in other units, or that only main uses.
 struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config, data_dir, record = "class";
+  std::string directory, server_name = HostName(), peer_tls_ca;
+  double peer_timeout_ms = 1000.0;
   double recording_flush_ms = 50.0, recording_fsync_ms = 0.0, checkpoint_every_s = 1.0, retention_days = 90.0;
   bool database_fsync = false;
   double tick_hz = 1000.0, quantum_mm = 0.01, pose_timeout_ms = 250.0, pose_slack_ms = 0.5;
@@ -105,6 +115,13 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("tls-key", &options->tls_key_file, "the PEM private key of --tls-cert");
   flags.Add("tls-client-ca", &options->tls_client_ca_file,
             "require client certificates signed by this PEM CA (with --tls-cert/--tls-key)");
+  flags.Add("directory", &f->directory,
+            "TOML file of the site's servers ([[server]] name, address; docs/deploy.md): Locate then finds\n"
+            "sessions on the other servers too. Empty: this server answers for its own sessions only");
+  flags.Add("server-name", &f->server_name, "this server's name in --directory (default: the host name)");
+  flags.Add("peer-tls-ca", &f->peer_tls_ca, "dial the directory's other servers over TLS, trusting this PEM CA");
+  flags.Add("peer-timeout-ms", &f->peer_timeout_ms,
+            "a server of the directory that has not answered a Locate by then counts as unreachable [ms]");
   flags.Add("data-dir", &f->data_dir,
             "keep trials, scores, trial recordings and the live sessions here, and bring them back at start\n"
             "(docs/recording.md). Empty: nothing outlives the process");
@@ -181,6 +198,7 @@ bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptio
       {f.checkpoint_every_s >= 0.001 && f.checkpoint_every_s <= 600.0, "--checkpoint-every-s", "[0.001, 600]"},
       {f.retention_days >= 0.0 && f.retention_days <= 36500.0, "--retention-days", "[0, 36500]"},
       {options.max_message_bytes >= 1024, "--max-message-bytes", ">= 1024"},
+      {f.peer_timeout_ms >= 10.0 && f.peer_timeout_ms <= 60000.0, "--peer-timeout-ms", "[10, 60000]"},
       {options.sessions.frame_rate_hz > 0.0 && options.sessions.frame_rate_hz <= 1000.0, "--frame-rate-hz",
        "(0, 1000]"},
   });
@@ -218,6 +236,22 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
     p.retention_days = f.retention_days;
     p.fsync_database = f.database_fsync;
     options->persistence = p;
+  }
+  if (!f.directory.empty()) {
+    hapsim::service::DirectoryOptions d;
+    try {
+      d.directory = hapsim::service::LoadServerDirectory(f.directory);
+    } catch (const hapsim::service::ClassConfigError& e) {
+      std::fprintf(stderr, "hapsim-server: bad --directory: %s\n", e.what());
+      return false;
+    }
+    d.server_name = f.server_name;
+    d.peer_tls_ca_file = f.peer_tls_ca;
+    d.peer_timeout = std::chrono::milliseconds(static_cast<std::int64_t>(f.peer_timeout_ms));
+    options->directory = std::move(d);
+  } else if (!f.peer_tls_ca.empty()) {
+    std::fprintf(stderr, "hapsim-server: --peer-tls-ca needs --directory\n");
+    return false;
   }
   if (!f.class_config.empty()) {
     try {

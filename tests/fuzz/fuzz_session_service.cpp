@@ -118,6 +118,9 @@ void WriteSeeds(const std::string& dir) {
   watch.set_rate_hz(20.0);
   write(14, watch);
   write(0, v1::ListScenesRequest());
+  v1::LocateRequest locate;
+  locate.set_session_id("s1");
+  write(15, locate);
 }
 
 }  // namespace
@@ -133,7 +136,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* body = data + 1;
   const std::size_t n = size - 1;
   try {
-    switch (data[0] % 15) {
+    switch (data[0] % 16) {
       case 0: Invoke<v1::ListScenesRequest, v1::ListScenesResponse>(&S::ListScenes, body, n); break;
       case 1: Invoke<v1::CreateSessionRequest, v1::SessionInfo>(&S::CreateSession, body, n); break;
       case 2: Invoke<v1::ListSessionsRequest, v1::ListSessionsResponse>(&S::ListSessions, body, n); break;
@@ -148,7 +151,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 11: Invoke<v1::SessionRef, v1::JoinSessionResponse>(&S::JoinSession, body, n); break;
       case 12: Invoke<v1::PushScenarioRequest, v1::PushScenarioResponse>(&S::PushScenario, body, n); break;
       case 13: Invoke<v1::TrialQuery, v1::TrialReport>(&S::GetTrials, body, n); break;
-      default: WatchClassOnce(body, n); break;
+      case 14:
+        WatchClassOnce(body, n);
+        break;
+      default:
+        Invoke<v1::LocateRequest, v1::LocateResponse>(&S::Locate, body, n);
+        break;
     }
   } catch (...) {
     std::abort();  // a handler let an exception out: the gRPC thread would die

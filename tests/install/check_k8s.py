@@ -69,12 +69,22 @@ for v in volumes.values():
 classes = by_kind["ConfigMap"]["hapsim-classes"]["data"]
 for i in range(spec["replicas"]):
     check(f"class-hapsim-{i}.toml" in classes, f"pod hapsim-{i} has its class config")
-# Each pod's class config is one the server accepts: it starts on it (and is stopped).
+# The directory names every pod by its stable name, at the Service's gRPC port.
+directory = by_kind["ConfigMap"]["hapsim-directory"]["data"]["site.toml"]
+grpc_port = next(p["port"] for p in by_kind["Service"]["hapsim"]["spec"]["ports"] if p["name"] == "grpc")
+for i in range(spec["replicas"]):
+    check(f'name = "hapsim-{i}"\naddress = "hapsim-{i}.hapsim:{grpc_port}"' in directory,
+          f"the directory lists pod hapsim-{i} at hapsim-{i}.hapsim:{grpc_port}")
+# Each pod's class config is one the server accepts, with the directory: it starts on them (and is stopped).
 with tempfile.TemporaryDirectory() as tmp:
+    directory_file = os.path.join(tmp, "site.toml")
+    open(directory_file, "w").write(directory)
     for name, text in sorted(classes.items()):
         config, port_file = os.path.join(tmp, name), os.path.join(tmp, name + ".port")
         open(config, "w").write(text)
+        pod = name[len("class-"):-len(".toml")]
         proc = subprocess.Popen([server, "--class-config", config, "--listen", "127.0.0.1:0", "--port-file", port_file,
+                                 "--directory", directory_file, "--server-name", pod,
                                  "--dds-domain", str(200 + os.getpid() % 30), "--log-level", "error"],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         deadline = time.monotonic() + 10

@@ -21,6 +21,8 @@ Status ToGrpcStatus(const ServiceError& e) {
       return {StatusCode::UNAUTHENTICATED, e.what()};
     case ErrorCode::kPermissionDenied:
       return {StatusCode::PERMISSION_DENIED, e.what()};
+    case ErrorCode::kUnavailable:
+      return {StatusCode::UNAVAILABLE, e.what()};
   }
   return {StatusCode::INTERNAL, e.what()};
 }

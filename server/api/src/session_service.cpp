@@ -19,14 +19,15 @@ using grpc::StatusCode;
 
 SessionServiceImpl::SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
                                        const AccessPolicy* policy, std::uint32_t dds_domain, const TrialBook* trials,
-                                       ResultsStore* store, std::string recordings_dir)
+                                       ResultsStore* store, std::string recordings_dir, const PeerLocator* peers)
     : registry_(registry),
       hub_(hub),
       policy_(policy ? policy : &OpenAccessPolicy()),
       dds_domain_(dds_domain),
       classroom_(registry, hub, scores, policy, trials),
       recordings_(store, std::move(recordings_dir), policy),
-      replays_(registry, &recordings_, policy) {}
+      replays_(registry, &recordings_, policy),
+      locate_(registry, policy_, peers) {}
 
 std::optional<Principal> SessionServiceImpl::Caller(const grpc::ServerContext* context) const {
   return AuthenticateCall(*policy_, context);

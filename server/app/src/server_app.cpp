@@ -39,6 +39,25 @@ std::shared_ptr<grpc::ServerCredentials> MakeCredentials(const ServerOptions& o)
   return grpc::SslServerCredentials(ssl);
 }
 
+std::unique_ptr<PeerLocator> MakePeerLocator(const DirectoryOptions& d) {
+  std::shared_ptr<grpc::ChannelCredentials> credentials = grpc::InsecureChannelCredentials();
+  if (!d.peer_tls_ca_file.empty()) {
+    grpc::SslCredentialsOptions ssl;
+    ssl.pem_root_certs = ReadPem(d.peer_tls_ca_file, "peer TLS CA");
+    credentials = grpc::SslCredentials(ssl);
+  }
+  if (!d.directory.Find(d.server_name)) {
+    spdlog::warn(
+        "this server ('{}') is not in the directory: other servers will not ask it where sessions are "
+        "(set --server-name to its name there)",
+        d.server_name);
+  }
+  spdlog::info("directory: {} servers; this is '{}'; the others are asked with a {} ms timeout{}",
+               d.directory.servers.size(), d.server_name, d.peer_timeout.count(),
+               d.peer_tls_ca_file.empty() ? " over plain TCP" : " over TLS");
+  return std::make_unique<PeerLocator>(d.directory, d.server_name, std::move(credentials), d.peer_timeout);
+}
+
 // How the server listens, and a loud warning when that is unsafe.
 void LogServerListening(const ServerOptions& o, int bound_port) {
   const bool tls = !o.tls_cert_file.empty();
@@ -65,6 +84,7 @@ bool IsLoopbackAddress(const std::string& a) {
 
 ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(*o.classes) : AccessPolicy()) {
   const auto credentials = MakeCredentials(o);  // bad TLS files fail before anything starts
+  if (o.directory) peers_ = MakePeerLocator(*o.directory);
   AssembleParts(o);
   StartGrpc(o, credentials);
   if (!o.metrics_listen_address.empty()) StartMetrics(o.metrics_listen_address);
@@ -89,9 +109,10 @@ void ServerApp::AssembleParts(const ServerOptions& o) {
     trials_.Observe(sessions);
     if (persistence_) persistence_->MaybeApplyRetention();
   });
-  session_service_ = std::make_unique<SessionServiceImpl>(
-      registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_,
-      persistence_ ? &persistence_->store() : nullptr, persistence_ ? persistence_->recordings_dir() : std::string());
+  session_service_ =
+      std::make_unique<SessionServiceImpl>(registry_.get(), &viewers_, &scores_, &policy_, o.dds.domain_id, &trials_,
+                                           persistence_ ? &persistence_->store() : nullptr,
+                                           persistence_ ? persistence_->recordings_dir() : std::string(), peers_.get());
   viewer_service_ = std::make_unique<ViewerServiceImpl>(registry_.get(), &viewers_, o.quantum_m, &policy_);
 }
 

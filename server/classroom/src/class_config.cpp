@@ -1,16 +1,14 @@
 #include "hapsim/classroom/class_config.h"
 
 #include <openssl/evp.h>
-#include <toml++/toml.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "hapsim/common/session_id.h"
 #include "hapsim/core/scenes/scene.h"
+#include "toml_checker.h"
 
 namespace hapsim::service {
 
@@ -46,64 +44,11 @@ std::string Sha256Hex(std::string_view text) {
 
 namespace {
 
-// Errors name the file and the node's line:column.
-class Checker {
- public:
-  explicit Checker(std::string_view origin) : origin_(origin) {}
-
-  [[noreturn]] void Fail(const toml::node& where, const std::string& what) const {
-    const auto& at = where.source().begin;
-    throw ClassConfigError(origin_ + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) + ": " + what);
-  }
-  [[noreturn]] void Fail(const std::string& what) const { throw ClassConfigError(origin_ + ": " + what); }
-
-  // Only `allowed` keys: a typo is an error, never a silent default.
-  void OnlyKeys(const toml::table& table, std::initializer_list<std::string_view> allowed, const char* what) const {
-    for (const auto& [key, node] : table) {
-      if (std::find(allowed.begin(), allowed.end(), key.str()) == allowed.end()) {
-        std::string list;
-        for (const auto a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        Fail(node, "unknown key '" + std::string(key.str()) + "' in " + what + " (known: " + list + ")");
-      }
-    }
-  }
-  std::string String(const toml::table& table, std::string_view key, const char* what, bool required,
-                     std::string fallback = "") const {
-    const toml::node* node = table.get(key);
-    if (!node) {
-      if (required) Fail(table, what + std::string(" needs '") + std::string(key) + "'");
-      return fallback;
-    }
-    const auto* s = node->as_string();
-    if (!s) Fail(*node, "'" + std::string(key) + "' must be a string");
-    if (s->get().size() > 256) Fail(*node, "'" + std::string(key) + "' is longer than 256 characters");
-    return s->get();
-  }
-  const toml::array* Array(const toml::table& table, std::string_view key) const {
-    const toml::node* node = table.get(key);
-    if (!node) return nullptr;
-    const auto* a = node->as_array();
-    if (!a) Fail(*node, "'" + std::string(key) + "' must be an array");
-    return a;
-  }
-
- private:
-  std::string origin_;
-};
+using Checker = TomlChecker<ClassConfigError>;
 
 bool IsLowerHex64(const std::string& s) {
   return s.size() == 64 &&
          std::all_of(s.begin(), s.end(), [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
-}
-
-toml::table ParseClassConfigToml(std::string_view text, std::string_view origin) {
-  try {
-    return toml::parse(text, origin);
-  } catch (const toml::parse_error& e) {
-    const auto& at = e.source().begin;
-    throw ClassConfigError(std::string(origin) + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
-                           ": " + std::string(e.description()));
-  }
 }
 
 // A [[class]]'s optional target_depth_m and target_line_m.
@@ -232,7 +177,7 @@ TokenDef ParseTokenTable(const Checker& check, const toml::node& token_node, con
 
 ClassConfig ParseClassConfig(std::string_view text, std::string_view origin) {
   const Checker check(origin);
-  const toml::table root = ParseClassConfigToml(text, origin);
+  const toml::table root = check.Parse(text);
   check.OnlyKeys(root, {"class", "token"}, "the config");
   std::set<std::string> scene_names;
   for (const auto& scene : core::SceneCatalog()) scene_names.insert(scene.name);
@@ -255,12 +200,7 @@ ClassConfig ParseClassConfig(std::string_view text, std::string_view origin) {
 }
 
 ClassConfig LoadClassConfig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ClassConfigError(path + ": cannot read the class config");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (text.str().size() > (1u << 20)) throw ClassConfigError(path + ": larger than 1 MiB; not a class config");
-  return ParseClassConfig(text.str(), path);
+  return ParseClassConfig(ReadConfigFile<ClassConfigError>(path, "class config"), path);
 }
 
 }  // namespace hapsim::service

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "hapsim/api/classroom_calls.h"
+#include "hapsim/api/locate_call.h"
 #include "hapsim/api/recording_calls.h"
 #include "hapsim/api/replay_calls.h"
 #include "hapsim/classroom/access_policy.h"
@@ -24,10 +25,12 @@ namespace hapsim::service {
 class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
  public:
   // policy: nullptr = development mode (no tokens). dds_domain: what
-  // JoinSession tells devices.
+  // JoinSession tells devices. peers: the site's other servers (nullptr:
+  // no directory; Locate answers for this server's sessions only).
   SessionServiceImpl(SessionRegistry* registry, const ViewerHub* hub, ScoreBook* scores,
                      const AccessPolicy* policy = nullptr, std::uint32_t dds_domain = 0,
-                     const TrialBook* trials = nullptr, ResultsStore* store = nullptr, std::string recordings_dir = {});
+                     const TrialBook* trials = nullptr, ResultsStore* store = nullptr, std::string recordings_dir = {},
+                     const PeerLocator* peers = nullptr);
 
   // Ends every WatchClass stream (OK status) and refuses new ones; called
   // before the gRPC server shuts down so no handler thread outlives it.
@@ -102,6 +105,10 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
                           hapsim::v1::ReplayInfo* out) override {
     return replays_.SeekReplay(c, req, out);
   }
+  grpc::Status Locate(grpc::ServerContext* c, const hapsim::v1::LocateRequest* req,
+                      hapsim::v1::LocateResponse* out) override {
+    return locate_.Locate(c, req, out);
+  }
 
   static constexpr int kMaxWatchStreams = ClassroomCalls::kMaxWatchStreams;
 
@@ -114,6 +121,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
   ClassroomCalls classroom_;
   RecordingCalls recordings_;
   ReplayCalls replays_;  // after recordings_, which it uses
+  LocateCall locate_;
 };
 
 // Fills a SessionInfo from a session's counters.

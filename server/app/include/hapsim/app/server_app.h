@@ -3,17 +3,20 @@
 #pragma once
 #include <grpcpp/grpcpp.h>
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "hapsim/api/metrics.h"
+#include "hapsim/api/peer_locator.h"
 #include "hapsim/api/session_service.h"
 #include "hapsim/api/viewer_service.h"
 #include "hapsim/app/persistence.h"
 #include "hapsim/classroom/access_policy.h"
 #include "hapsim/classroom/score_book.h"
+#include "hapsim/classroom/server_directory.h"
 #include "hapsim/classroom/session_trials.h"
 #include "hapsim/dds/dds.h"
 #include "hapsim/device_link/server_dds.h"
@@ -23,6 +26,14 @@
 #include "hapsim/streaming/viewer_hub.h"
 
 namespace hapsim::service {
+
+// The site's servers, for SessionService.Locate (docs/deploy.md, "Several servers").
+struct DirectoryOptions {
+  ServerDirectory directory;
+  std::string server_name;                       // this server's name in it
+  std::string peer_tls_ca_file;                  // dial the other servers over TLS trusting this PEM CA ("": plain TCP)
+  std::chrono::milliseconds peer_timeout{1000};  // a server that has not answered by then is unreachable
+};
 
 struct ServerOptions {
   std::string listen_address = "127.0.0.1:50051";
@@ -43,6 +54,8 @@ struct ServerOptions {
   // kept and brought back at start (persistence.h). None: nothing outlives
   // the process.
   std::optional<PersistenceOptions> persistence;
+  // The other servers of the site; none: Locate answers for this server only.
+  std::optional<DirectoryOptions> directory;
 };
 
 // True for addresses only this machine reaches (127.x, ::1, localhost).
@@ -85,6 +98,7 @@ class ServerApp {
   ScoreBook scores_;
   TrialBook trials_;
   AccessPolicy policy_;
+  std::unique_ptr<PeerLocator> peers_;  // before the service that asks them
   GrpcCallCounter grpc_calls_;  // outlives the gRPC server that calls into it
   std::unique_ptr<SessionServiceImpl> session_service_;
   std::unique_ptr<ViewerServiceImpl> viewer_service_;

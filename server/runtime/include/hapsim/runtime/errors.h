@@ -14,6 +14,7 @@ enum class ErrorCode {
   kFailedPrecondition,
   kUnauthenticated,   // no token, or one the server does not know
   kPermissionDenied,  // a known caller whose role or class does not allow the call
+  kUnavailable,       // the answer depends on another server that did not answer
 };
 
 class ServiceError : public std::runtime_error {
