@@ -25,7 +25,9 @@ namespace {
 
 constexpr const char* kSummary =
     "Load generator of hapsim: N synthetic haptic devices in one process, one DDS participant and one\n"
-    "servo thread stepping all of them at the servo rate (absolute deadlines). Device i has id\n"
+    "servo thread stepping all of them at the servo rate (absolute deadlines), each device on a clock of\n"
+    "its own as a classroom's are: phases spread over the period (--clock-phase-spread) and rates off by\n"
+    "up to --clock-rate-ppm (0 and 0: every device in lockstep, one wake per period). Device i has id\n"
     "--first-device-id + i and drives session <--session-prefix><i> (or the i-th of --sessions); it runs\n"
     "the common --script with seed --seed + i, read at a phase offset i * --phase-spread-s / N. Each\n"
     "device renders its force models through its own safety chain (clamp, rise limit, watchdog), as\n"
@@ -78,8 +80,12 @@ void AddLoadFlags(hapsim::common::Flags& flags, LoadFlags* f) {
   hapsim::bridge::AddScriptFlags(flags, &f->script, "base seed of the random_walk script (device i: seed + i)");
   flags.Add("phase-spread-s", &f->plan_options.phase_spread_s,
             "device i reads its script at t + i * spread / N [s] (0: all in lockstep)");
+  flags.Add("clock-phase-spread", &f->plan_options.clock_phase_spread,
+            "device i's servo clock ticks i / N of this many periods after device 0's, [0, 1]");
+  flags.Add("clock-rate-ppm", &f->plan_options.clock_rate_ppm,
+            "device clocks' rates spread evenly over +-this [ppm] (a crystal's error: tens to hundreds)");
   flags.Add("seconds", &f->seconds, "stop after this long [s] (0: until SIGINT/SIGTERM)");
-  flags.Add("rate-hz", &f->rate_hz, "servo rate of every device [Hz]");
+  flags.Add("rate-hz", &f->rate_hz, "nominal servo rate of every device [Hz]");
   hapsim::bridge::AddPoseDeadbandFlags(flags, &f->pose_deadband);
   hapsim::bridge::AddSafetyFlags(flags, &f->safety);
   flags.Add("create", &f->create_scene, "create the sessions with this scene before starting (see hapsim-ctl scenes)");
@@ -135,6 +141,7 @@ bool PlanLoad(LoadFlags* f, std::vector<hapsim::bridge::LoadDevicePlan>* plan,
     f->plan_options.devices = f->devices;
     f->plan_options.sessions = hapsim::bridge::SplitCommaList(f->sessions);
     f->plan_options.first_device_id = static_cast<std::uint32_t>(f->first_device_id);
+    f->plan_options.period_s = 1.0 / f->rate_hz;
     f->plan_options.script = f->script.ToScript();
     hapsim::bridge::ValidateSyntheticScript(f->plan_options.script);
     *plan = hapsim::bridge::PlanDevices(f->plan_options);

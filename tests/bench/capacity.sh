@@ -46,6 +46,14 @@
 #                                    --model-deadband 0, as the earlier
 #                                    figures) or `deadband` (the shipped
 #                                    defaults: perceptual deadband coding)
+#   LOAD_CLOCKS [own]                hapsim-load's device clocks: `own` (its
+#                                    default: each device on a clock of its
+#                                    own, phases spread over the period, rates
+#                                    +-500 ppm, as a classroom's devices) or
+#                                    `lockstep` (every device stepped together
+#                                    once per period, as the earlier figures).
+#                                    A baseline's older hapsim-load without
+#                                    device clocks runs in lockstep.
 #   RECORDINGS [off]                 trial recording on the server, one series
 #                                    each, in this order: `off`, or `on`
 #                                    (--data-dir in the run's directory,
@@ -97,6 +105,12 @@ DDSPERF_S=${DDSPERF_S:-10}
 LINKS=${LINKS:-loopback}
 CODINGS=${CODINGS:-every}
 RECORDINGS=${RECORDINGS:-off}
+LOAD_CLOCKS=${LOAD_CLOCKS:-own}
+case "$LOAD_CLOCKS" in
+  own) load_clock_flags=() ;;
+  lockstep) load_clock_flags=(--clock-phase-spread 0 --clock-rate-ppm 0) ;;
+  *) echo "capacity.sh: LOAD_CLOCKS must be own or lockstep" >&2; exit 2 ;;
+esac
 dds_uri=file://$root/deploy/cyclonedds-loopback.xml
 netlab="$root/netlab/netlab.sh"
 export HAPSIM_LINKEM="$bin/hapsim-linkem"
@@ -221,7 +235,11 @@ run_one() {
   local server_coding client_coding
   read -ra server_coding <<<"$(coding_flags "$coding" server)"
   read -ra client_coding <<<"$(coding_flags "$coding" clients)"
+  local client_load_clocks=("${load_clock_flags[@]}")
   if [ "$label" = baseline ]; then server_coding=() client_coding=(); fi  # an older build: every tick, its own flags
+  if ! "$(client "$client_dir" hapsim-load)" --help 2>/dev/null | grep -q -- --clock-phase-spread; then
+    client_load_clocks=()  # an older hapsim-load: lockstep, its only way
+  fi
   local domain server addr i rc client_rc=0 failure="" ctl bridges=()
   rm -rf "$dir" && mkdir -p "$dir"
   echo "$dir" >>"$out/runs.txt"
@@ -232,7 +250,7 @@ run_one() {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
     echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
-    echo "coding=$coding"; echo "recording=$recording"
+    echo "coding=$coding"; echo "recording=$recording"; echo "load_clocks=$LOAD_CLOCKS"
   } >run.env
   background before
   place "$link"
@@ -260,6 +278,7 @@ run_one() {
   if [ "$mode" = load ]; then
     "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" \
         --server "$addr" --dds-domain "$domain" "${dds_flags[@]}" "${client_coding[@]}" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
+        "${client_load_clocks[@]}" \
         --json load.json --csv load.csv --server-stats >load.out 2>load.err &
     pids+=("$!")
     wait "$!" || client_rc=$?

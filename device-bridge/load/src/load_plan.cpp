@@ -26,6 +26,12 @@ std::vector<LoadDevicePlan> PlanDevices(const LoadPlanOptions& o) {
     for (int i = 0; i < o.devices; ++i) sessions.push_back(o.session_prefix + std::to_string(i));
   }
   if (!(o.phase_spread_s >= 0.0)) throw std::invalid_argument("--phase-spread-s must be >= 0");
+  if (!(o.clock_phase_spread >= 0.0 && o.clock_phase_spread <= 1.0)) {
+    throw std::invalid_argument("--clock-phase-spread must be within [0, 1]");
+  }
+  if (!(o.clock_rate_ppm >= 0.0 && o.clock_rate_ppm <= 10000.0)) {
+    throw std::invalid_argument("--clock-rate-ppm must be within [0, 10000]");
+  }
   std::set<std::string> seen;
   for (const auto& s : sessions) {
     if (!common::IsValidSessionId(s)) throw std::invalid_argument("session id '" + s + "' is not [A-Za-z0-9_-]{1,63}");
@@ -39,8 +45,18 @@ std::vector<LoadDevicePlan> PlanDevices(const LoadPlanOptions& o) {
     plan[i].script = o.script;
     plan[i].script.seed = o.script.seed + static_cast<std::uint32_t>(i);
     plan[i].phase_s = o.phase_spread_s * static_cast<double>(i) / static_cast<double>(n);
+    const double fraction = static_cast<double>(i) / static_cast<double>(n);  // [0, 1)
+    plan[i].clock_phase_s = o.clock_phase_spread * fraction * o.period_s;
+    // -ppm for device 0 up to +ppm for the last: every pair drifts apart at a different rate.
+    plan[i].clock_rate_ppm =
+        n > 1 ? o.clock_rate_ppm * (2.0 * static_cast<double>(i) / static_cast<double>(n - 1) - 1.0) : 0.0;
   }
   return plan;
+}
+
+bool HasOwnClocks(const std::vector<LoadDevicePlan>& plan) {
+  return std::any_of(plan.begin(), plan.end(),
+                     [](const LoadDevicePlan& p) { return p.clock_phase_s != 0.0 || p.clock_rate_ppm != 0.0; });
 }
 
 }  // namespace hapsim::bridge

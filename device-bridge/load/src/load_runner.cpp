@@ -1,7 +1,9 @@
 #include "hapsim/load/load_runner.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <thread>
 
 #include "hapsim/common/clock.h"
 #include "hapsim/servo/deadline_ticker.h"
@@ -91,30 +93,83 @@ void LoadRunner::CloseInterval(double end_s) {
   interval_model_age_s_.Clear();
 }
 
-LoadReport LoadRunner::Run(const std::atomic<bool>& stop) {
+void LoadRunner::CloseIntervalsUpTo(double t_s) {
+  if (config_.interval_s > 0.0 && t_s >= interval_end_s_) {
+    CloseInterval(interval_end_s_);
+    interval_end_s_ += config_.interval_s;
+  }
+}
+
+void LoadRunner::RunInLockstep(const std::atomic<bool>& stop, ServoThreadReport* servo) {
   DeadlineTicker ticker(config_.rate_hz, StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1));
   common::SampleWindow work_s(StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1));
   while (!stop.load(std::memory_order_relaxed)) {
     const double t = ticker.Wait();
     if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
-    if (config_.interval_s > 0.0 && t >= interval_end_s_) {
-      CloseInterval(interval_end_s_);
-      interval_end_s_ += config_.interval_s;
-    }
+    CloseIntervalsUpTo(t);
     const std::int64_t start_ns = common::SteadyNowNs();
     for (std::size_t i = 0; i < channels_.size(); ++i) StepDevice(i, t);
     work_s.Record(static_cast<double>(common::SteadyNowNs() - start_ns) * 1e-9);
   }
+  servo->ticks = work_s.Total();
+  servo->reanchors = ticker.reanchors();
+  servo->lateness_s = ticker.Lateness();
+  servo->work_s = work_s.Summary();
+}
+
+void LoadRunner::RunOnDeviceClocks(const std::atomic<bool>& stop, ServoThreadReport* servo) {
+  std::vector<double> phases_s, rates_ppm;
+  for (const auto& p : plan_) {
+    phases_s.push_back(p.clock_phase_s);
+    rates_ppm.push_back(p.clock_rate_ppm);
+  }
+  DeviceClocks clocks(phases_s, rates_ppm, 1.0 / config_.rate_hz);
+  // One wake per device tick at most: a window of the run's wakes for every device.
+  const std::size_t window =
+      std::min(StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1) * plan_.size(), kPooledSampleBudget);
+  common::SampleWindow work_s(window), lateness_s(window);
+  std::vector<std::size_t> due;
+  std::vector<double> due_times_s;
+  due.reserve(plan_.size());
+  due_times_s.reserve(plan_.size());
+  const auto start = std::chrono::steady_clock::now();
+  const auto since_start_s = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  while (!stop.load(std::memory_order_relaxed)) {
+    const double next_s = clocks.NextDueS();
+    if (config_.run_seconds > 0.0 && next_s >= config_.run_seconds) break;
+    std::this_thread::sleep_until(
+        start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(next_s)));
+    const double now_s = since_start_s();
+    lateness_s.Record(now_s - next_s);
+    CloseIntervalsUpTo(now_s);
+    const std::int64_t start_ns = common::SteadyNowNs();
+    clocks.TakeDue(now_s, &due, &due_times_s);
+    for (std::size_t k = 0; k < due.size(); ++k) StepDevice(due[k], due_times_s[k]);
+    work_s.Record(static_cast<double>(common::SteadyNowNs() - start_ns) * 1e-9);
+  }
+  servo->ticks = work_s.Total();
+  servo->reanchors = clocks.reanchors();
+  servo->lateness_s = lateness_s.Summary();
+  servo->work_s = work_s.Summary();
+}
+
+LoadReport LoadRunner::Run(const std::atomic<bool>& stop) {
+  const auto start = std::chrono::steady_clock::now();
+  ServoThreadReport servo;
+  if (HasOwnClocks(plan_)) {
+    RunOnDeviceClocks(stop, &servo);
+  } else {
+    RunInLockstep(stop, &servo);
+  }
   for (auto& device : devices_) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off
-  const double elapsed_s = ticker.ElapsedS();
+  const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (config_.interval_s > 0.0 && interval_round_trip_s_.count() + interval_model_age_s_.count() > 0) {
     CloseInterval(std::min(elapsed_s, interval_end_s_));  // the last, shorter one
   }
   LoadReport report = Report(elapsed_s);
-  report.servo.ticks = work_s.Total();
-  report.servo.reanchors = ticker.reanchors();
-  report.servo.lateness_s = ticker.Lateness();
-  report.servo.work_s = work_s.Summary();
+  report.servo = servo;
   return report;
 }
 

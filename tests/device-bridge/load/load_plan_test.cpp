@@ -33,6 +33,39 @@ TEST(LoadPlan, AnExplicitSessionListSetsTheDeviceCount) {
   EXPECT_EQ(plan[1].device_id, o.first_device_id + 1);
 }
 
+TEST(LoadPlan, DeviceClocksSpreadOverThePeriodAndOverTheRateRange) {
+  LoadPlanOptions o;
+  o.devices = 5;
+  o.period_s = 1e-3;
+  o.clock_phase_spread = 1.0;
+  o.clock_rate_ppm = 400.0;
+  const auto plan = PlanDevices(o);
+  ASSERT_TRUE(HasOwnClocks(plan));
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    EXPECT_DOUBLE_EQ(plan[i].clock_phase_s, 2e-4 * static_cast<double>(i));  // i / 5 of 1 ms
+    EXPECT_DOUBLE_EQ(plan[i].clock_rate_ppm, -400.0 + 200.0 * static_cast<double>(i));
+  }
+  o.clock_phase_spread = 0.0;
+  o.clock_rate_ppm = 0.0;
+  EXPECT_FALSE(HasOwnClocks(PlanDevices(o)));
+  o.devices = 1;
+  o.clock_rate_ppm = 400.0;
+  EXPECT_EQ(PlanDevices(o)[0].clock_rate_ppm, 0.0);  // one device: the nominal rate
+}
+
+TEST(LoadPlan, ClockOptionsOutOfRangeAreRefused) {
+  LoadPlanOptions o;
+  o.clock_phase_spread = 1.5;
+  EXPECT_THROW(PlanDevices(o), std::invalid_argument);
+  o.clock_phase_spread = -0.1;
+  EXPECT_THROW(PlanDevices(o), std::invalid_argument);
+  o.clock_phase_spread = 0.5;
+  o.clock_rate_ppm = 20000.0;
+  EXPECT_THROW(PlanDevices(o), std::invalid_argument);
+  o.clock_rate_ppm = -1.0;
+  EXPECT_THROW(PlanDevices(o), std::invalid_argument);
+}
+
 TEST(LoadPlan, RejectsRepeatedOrMalformedSessionsAndBadCounts) {
   LoadPlanOptions o;
   o.sessions = {"a", "a"};

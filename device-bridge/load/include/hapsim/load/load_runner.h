@@ -4,7 +4,10 @@
 // device: sense, write the pose, take the newest model from the device's
 // inbox (filled by the receive thread through the ModelRouter), render.
 // One thread instead of one per device keeps the load generator's own
-// wake-ups from competing with the server it measures. Nothing allocates
+// wake-ups from competing with the server it measures. With device clocks
+// of their own (the plan's clock phases and rates, DeviceClocks) it wakes
+// for each device's tick and steps the devices due then; else it steps all
+// of them together once per period. Nothing allocates
 // inside a tick (our part; see DeviceDds::WritePose for DDS).
 #pragma once
 #include <atomic>
@@ -15,6 +18,7 @@
 #include "backends/synthetic_device.h"
 #include "hapsim/bridge/model_router.h"
 #include "hapsim/common/log_histogram.h"
+#include "hapsim/load/device_clocks.h"
 #include "hapsim/load/load_plan.h"
 #include "hapsim/load/load_report.h"
 #include "hapsim/servo/servo_channel.h"
@@ -47,8 +51,13 @@ class LoadRunner {
 
  private:
   void StepDevice(std::size_t i, double t_s);
+  // The servo loops: all devices at once per period, or each on its own clock.
+  void RunInLockstep(const std::atomic<bool>& stop, ServoThreadReport* servo);
+  void RunOnDeviceClocks(const std::atomic<bool>& stop, ServoThreadReport* servo);
   // Closes the interval ending at end_s (servo thread; no allocation).
   void CloseInterval(double end_s);
+  // Closes every interval that ended by t_s.
+  void CloseIntervalsUpTo(double t_s);
   LoadReport Report(double elapsed_s) const;
 
   LoadRunConfig config_;
