@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace hapsim::common {
@@ -22,6 +24,31 @@ void RunThisThreadOnlyWhenIdle() {
 void NameThisThread(const char* name) {
   const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));
   (void)pthread_setname_np(pthread_self(), cut.c_str());
+}
+
+void NameThread(std::thread& thread, const char* name) {
+  const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));
+  (void)pthread_setname_np(thread.native_handle(), cut.c_str());
+}
+
+RealtimeResult RaiseThreadsNamed(std::initializer_list<const char*> names, int priority) {
+  RealtimeResult result;
+  std::error_code error;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", error)) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    if (!std::getline(comm, name)) continue;  // the thread ended meanwhile
+    if (std::none_of(names.begin(), names.end(), [&](const char* n) { return name == n; })) continue;
+    sched_param param{};
+    param.sched_priority = priority;
+    const auto tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+    if (sched_setscheduler(tid, SCHED_FIFO, &param) == 0) {
+      ++result.raised;
+    } else {
+      ++result.refused;
+    }
+  }
+  return result;
 }
 
 }  // namespace hapsim::common

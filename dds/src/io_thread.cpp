@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "hapsim/common/thread_setup.h"
+
 namespace hapsim::dds {
 
 IoThread::IoThread(const Participant& participant, std::int64_t wake_timeout_ns)
@@ -14,6 +16,7 @@ void IoThread::Start(Handlers handlers) {
   handlers_ = std::move(handlers);
   stop_ = false;
   thread_ = std::thread([this] { Run(); });
+  common::NameThread(thread_, kThreadName);  // found by name for real-time priority
 }
 
 void IoThread::Stop() {
@@ -33,6 +36,10 @@ void IoThread::Run() {
       if (tags[i] != WaitSet::kGuardTag && handlers_.on_reader) handlers_.on_reader(tags[i]);
     }
   }
+}
+
+common::RealtimeResult RaiseReceiveThreads(int priority) {
+  return common::RaiseThreadsNamed({"recv", "recvUC", "recvMC", IoThread::kThreadName}, priority);
 }
 
 }  // namespace hapsim::dds

@@ -151,6 +151,10 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("model-keepalive-ms", &f->model_keepalive_ms,
             "with --model-deadband: an unchanged model still goes out this often [ms]");
   flags.Add("workers", &options->workers, "tick worker threads (0: one per CPU this process may run on)");
+  flags.Add("rt-priority", &options->rt_priority,
+            "run the tick workers at this SCHED_FIFO priority and the pose receive threads one above, so\n"
+            "viewers, gRPC and recording never delay a tick (needs CAP_SYS_NICE or LimitRTPRIO; refused:\n"
+            "a warning, normal priority). 0: normal scheduling");
   flags.Add("max-message-bytes", &options->max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &f->dds_domain, "DDS domain id");
   flags.Add("dds-config", &f->dds_config,
@@ -193,6 +197,7 @@ bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptio
       {f.model_keepalive_ms > 0.0 && f.model_keepalive_ms <= f.pose_timeout_ms, "--model-keepalive-ms",
        "(0, --pose-timeout-ms]"},
       {options.workers >= 0 && options.workers <= 64, "--workers", "[0, 64]"},
+      {options.rt_priority >= 0 && options.rt_priority <= 98, "--rt-priority", "[0, 98]"},
       {f.recording_flush_ms >= 1.0 && f.recording_flush_ms <= 10000.0, "--recording-flush-ms", "[1, 10000]"},
       {f.recording_fsync_ms >= 0.0 && f.recording_fsync_ms <= 3.6e6, "--recording-fsync-ms", "[0, 3600000]"},
       {f.checkpoint_every_s >= 0.001 && f.checkpoint_every_s <= 600.0, "--checkpoint-every-s", "[0.001, 600]"},

@@ -30,6 +30,8 @@ expect 2 "snapshot ID --obj FILE | --export FILE" "$bin/hapsim-ctl" --server 127
 expect 2 "--frame-rate-hz must be within (0, 1000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --frame-rate-hz 0
 expect 2 "--pose-timeout-ms must be within (0, 60000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --pose-timeout-ms 1e18
 expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.0.0.1:0 --quantum-mm 5
+expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-server" --listen 127.0.0.1:0 --rt-priority 99
+expect 2 "--clock-phase-spread must be within \[0, 1\]" "$bin/hapsim-load" --clock-phase-spread 2
 # Durations that would overflow when converted to ns or tick counts
 # (docs/reliability.md, gap 6).
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-viewer" --session s --seconds 1e300

@@ -7,6 +7,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "hapsim/common/thread_setup.h"
+#include "hapsim/dds/io_thread.h"
+
 namespace hapsim::service {
 
 namespace {
@@ -89,6 +92,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   StartGrpc(o, credentials);
   if (!o.metrics_listen_address.empty()) StartMetrics(o.metrics_listen_address);
   dds_->Start(registry_.get(), pool_.get());
+  if (o.rt_priority > 0) RaiseTheTickPath(o.rt_priority);
   if (persistence_) BringBack();
   pump_->Start();
   if (o.classes) CreateClassSessions(*o.classes);
@@ -142,6 +146,22 @@ void ServerApp::StartMetrics(const std::string& listen_address) {
                          policy_.enabled() ? &policy_.counters() : nullptr);
   });
   spdlog::info("metrics at http://{}/metrics (port {})", listen_address, metrics_->bound_port());
+}
+
+void ServerApp::RaiseTheTickPath(int priority) {
+  // A pose's way in (receive threads) one above the ticks it wakes: routing
+  // it is short, and a busy tick must not hold up another session's pose.
+  const auto ticks = common::RaiseThreadsNamed({TickPool::kWorkerThreadName}, priority);
+  const auto receive = dds::RaiseReceiveThreads(priority + 1);
+  if (ticks.refused + receive.refused > 0 || ticks.raised == 0) {
+    spdlog::warn(
+        "real-time priority refused for {} of {} threads (needs CAP_SYS_NICE or LimitRTPRIO >= {}): the "
+        "tick runs at normal priority, where viewers and gRPC compete with it",
+        ticks.refused + receive.refused, ticks.raised + receive.raised + ticks.refused + receive.refused, priority + 1);
+    return;
+  }
+  spdlog::info("real-time priority: {} tick workers at SCHED_FIFO {}, {} receive threads at {}", ticks.raised, priority,
+               receive.raised, priority + 1);
 }
 
 void ServerApp::BringBack() {

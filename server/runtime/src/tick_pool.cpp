@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "hapsim/common/clock.h"
+#include "hapsim/common/thread_setup.h"
 
 namespace hapsim::service {
 
@@ -33,7 +34,10 @@ TickPool::TickPool(int workers, std::int64_t coalesce_ns) : coalesce_ns_(coalesc
   if (workers < 1 || workers > 256) throw std::invalid_argument("tick pool: workers must be within [1, 256]");
   heap_.reserve(1024);
   threads_.reserve(static_cast<std::size_t>(workers));
-  for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { WorkerLoop(); });
+  for (int i = 0; i < workers; ++i) {
+    threads_.emplace_back([this] { WorkerLoop(); });
+    common::NameThread(threads_.back(), kWorkerThreadName);  // found by name for real-time priority
+  }
 }
 
 TickPool::~TickPool() { Stop(); }

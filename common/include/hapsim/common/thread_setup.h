@@ -3,6 +3,8 @@
 // the tick preempts it when both want the core; and threads worth telling
 // apart in top, perf and /proc/PID/task carry a name.
 #pragma once
+#include <initializer_list>
+#include <thread>
 
 namespace hapsim::common {
 
@@ -24,5 +26,22 @@ void RunThisThreadOnlyWhenIdle();
 
 // At most 15 characters (the kernel's limit; longer names are cut).
 void NameThisThread(const char* name);
+// The same for a thread this one started (named before it returns, so a
+// RaiseThreadsNamed right after finds it).
+void NameThread(std::thread& thread, const char* name);
+
+// Real-time priority for the threads of the 1 kHz path (tick workers, the
+// receive threads that carry poses): SCHED_FIFO at `priority` (1..99) for
+// every thread of this process whose name is one of `names`, so a due tick
+// preempts viewer streaming, gRPC, metrics and recording on a shared core.
+// Needs CAP_SYS_NICE or an RLIMIT_RTPRIO of at least `priority`; where
+// refused the threads keep their normal priority (reported, never fatal).
+// The kernel's RT throttling (sched_rt_runtime_us, 95 % by default) still
+// leaves the rest of the machine a share if these threads ever spin.
+struct RealtimeResult {
+  int raised = 0;   // threads now at SCHED_FIFO `priority`
+  int refused = 0;  // threads found by name whose change the kernel refused
+};
+RealtimeResult RaiseThreadsNamed(std::initializer_list<const char*> names, int priority);
 
 }  // namespace hapsim::common

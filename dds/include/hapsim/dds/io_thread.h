@@ -11,6 +11,7 @@
 #include <functional>
 #include <thread>
 
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/dds/dds.h"
 
 namespace hapsim::dds {
@@ -24,6 +25,7 @@ class IoThread {
 
   // wake_timeout_ns: the thread wakes at least this often.
   explicit IoThread(const Participant& participant, std::int64_t wake_timeout_ns = 5'000'000);
+  static constexpr const char* kThreadName = "dds-io";
   ~IoThread();
   IoThread(const IoThread&) = delete;
   IoThread& operator=(const IoThread&) = delete;
@@ -46,5 +48,11 @@ class IoThread {
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };
+
+// Real-time priority (common::RaiseThreadsNamed) for the threads a sample
+// crosses on its way in: Cyclone's receive threads ("recv"; "recvUC" and
+// "recvMC" when it runs several) and this process's IoThread. Call after
+// the participant exists and the IoThread started.
+common::RealtimeResult RaiseReceiveThreads(int priority);
 
 }  // namespace hapsim::dds

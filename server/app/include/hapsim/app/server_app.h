@@ -39,6 +39,9 @@ struct ServerOptions {
   std::string listen_address = "127.0.0.1:50051";
   SessionDefaults sessions;
   int workers = 0;  // tick pool threads; 0: the CPUs this process may use
+  // SCHED_FIFO priority of the tick workers (the receive threads one above);
+  // 0: normal scheduling. Refused (no CAP_SYS_NICE / RLIMIT_RTPRIO): a warning.
+  int rt_priority = 0;
   double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
   hapsim::dds::Options dds;
@@ -86,6 +89,7 @@ class ServerApp {
   void AssembleParts(const ServerOptions& options);
   void StartGrpc(const ServerOptions& options, const std::shared_ptr<grpc::ServerCredentials>& credentials);
   void StartMetrics(const std::string& listen_address);
+  void RaiseTheTickPath(int priority);  // --rt-priority
   void BringBack();  // the data directory's trials, scores and sessions
   void CreateClassSessions(const ClassConfig& classes);
 

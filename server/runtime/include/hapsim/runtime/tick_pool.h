@@ -52,6 +52,7 @@ class TickPool {
  public:
   // workers >= 1. Worker threads start at once.
   explicit TickPool(int workers, std::int64_t coalesce_ns = 20'000);
+  static constexpr const char* kWorkerThreadName = "tick-worker";
   ~TickPool();  // Stop()
   TickPool(const TickPool&) = delete;
   TickPool& operator=(const TickPool&) = delete;
