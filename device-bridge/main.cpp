@@ -20,6 +20,7 @@
 #include "hapsim/common/flags.h"
 #include "hapsim/common/session_id.h"
 #include "hapsim/common/shutdown_deadline.h"
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/servo/servo_loop.h"
 #include "session_join.h"
 #include "stop_on_signal.h"
@@ -293,8 +294,12 @@ std::vector<hapsim::bridge::ServoReport> RunServoLoops(
     hapsim::bridge::StopOnSignal stop_on_signal(&stop);
     std::vector<std::thread> others;
     for (std::size_t i = 1; i < loops.size(); ++i) {
-      others.emplace_back([&, i] { reports[i] = loops[i].Run(stop); });
+      others.emplace_back([&, i] {
+        if (f.process.rt_priority > 0) (void)hapsim::common::RunThisThreadAtRealtime(f.process.rt_priority);
+        reports[i] = loops[i].Run(stop);
+      });
     }
+    hapsim::bridge::RaiseServoPath(f.process.rt_priority);  // this thread runs loop 0
     reports[0] = loops[0].Run(stop);
     for (std::thread& t : others) t.join();
     for (auto& device : devices) device->CommandForce(Eigen::Vector3d::Zero());  // leave the motors off

@@ -31,6 +31,12 @@ void NameThread(std::thread& thread, const char* name) {
   (void)pthread_setname_np(thread.native_handle(), cut.c_str());
 }
 
+bool RunThisThreadAtRealtime(int priority) {
+  sched_param param{};
+  param.sched_priority = priority;
+  return pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+}
+
 RealtimeResult RaiseThreadsNamed(std::initializer_list<const char*> names, int priority) {
   RealtimeResult result;
   std::error_code error;

@@ -38,8 +38,9 @@ void IoThread::Run() {
   }
 }
 
-common::RealtimeResult RaiseReceiveThreads(int priority) {
-  return common::RaiseThreadsNamed({"recv", "recvUC", "recvMC", IoThread::kThreadName}, priority);
+common::RealtimeResult RaiseDdsThreads(int priority) {
+  return common::RaiseThreadsNamed(
+      {"recv", "recvUC", "recvMC", "dq.user", "dq.builtins", "tev", "gc", IoThread::kThreadName}, priority);
 }
 
 }  // namespace hapsim::dds

@@ -181,6 +181,7 @@ hapsim::bridge::LoadReport RunDevicesUntilStopped(const LoadFlags& f, hapsim::br
   hapsim::bridge::StopOnSignal stop_on_signal(&stop);
   spdlog::info("{} devices (ids {}..{}), script {}, at {} Hz", plan.size(), plan.front().device_id,
                plan.back().device_id, f.script.kind, f.rate_hz);
+  hapsim::bridge::RaiseServoPath(f.process.rt_priority);  // this thread is the servo thread
   return runner.Run(stop);
 }
 

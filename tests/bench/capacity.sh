@@ -54,6 +54,9 @@
 #                                    once per period, as the earlier figures).
 #                                    A baseline's older hapsim-load without
 #                                    device clocks runs in lockstep.
+#   RT_PRIORITY [0]                  --rt-priority of the server and
+#                                    hapsim-load (0: normal scheduling; not
+#                                    given to a baseline's older binaries)
 #   RECORDINGS [off]                 trial recording on the server, one series
 #                                    each, in this order: `off`, or `on`
 #                                    (--data-dir in the run's directory,
@@ -106,6 +109,7 @@ LINKS=${LINKS:-loopback}
 CODINGS=${CODINGS:-every}
 RECORDINGS=${RECORDINGS:-off}
 LOAD_CLOCKS=${LOAD_CLOCKS:-own}
+RT_PRIORITY=${RT_PRIORITY:-0}
 case "$LOAD_CLOCKS" in
   own) load_clock_flags=() ;;
   lockstep) load_clock_flags=(--clock-phase-spread 0 --clock-rate-ppm 0) ;;
@@ -235,9 +239,12 @@ run_one() {
   local server_coding client_coding
   read -ra server_coding <<<"$(coding_flags "$coding" server)"
   read -ra client_coding <<<"$(coding_flags "$coding" clients)"
-  local client_load_clocks=("${load_clock_flags[@]}")
+  local client_load_clocks=("${load_clock_flags[@]}") server_rt=()
+  [ "$RT_PRIORITY" = 0 ] || [ "$label" = baseline ] || server_rt=(--rt-priority "$RT_PRIORITY")
   if [ "$label" = baseline ]; then server_coding=() client_coding=(); fi  # an older build: every tick, its own flags
-  if ! "$(client "$client_dir" hapsim-load)" --help 2>/dev/null | grep -q -- --clock-phase-spread; then
+  local load_help
+  load_help=$("$(client "$client_dir" hapsim-load)" --help 2>/dev/null || true)  # no pipe: grep -q would cut it
+  if [[ $load_help != *--clock-phase-spread* ]]; then
     client_load_clocks=()  # an older hapsim-load: lockstep, its only way
   fi
   local domain server addr i rc client_rc=0 failure="" ctl bridges=()
@@ -250,12 +257,12 @@ run_one() {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
     echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
-    echo "coding=$coding"; echo "recording=$recording"; echo "load_clocks=$LOAD_CLOCKS"
+    echo "coding=$coding"; echo "recording=$recording"; echo "load_clocks=$LOAD_CLOCKS"; echo "rt_priority=$RT_PRIORITY"
   } >run.env
   background before
   place "$link"
   "${on_server[@]}" taskset -c 0 "$server_dir/hapsim-server" --listen "$server_ip:0" --port-file port \
-      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" "${recording_flags[@]}" \
+      --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" "${recording_flags[@]}" "${server_rt[@]}" \
       >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
@@ -278,7 +285,7 @@ run_one() {
   if [ "$mode" = load ]; then
     "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" \
         --server "$addr" --dds-domain "$domain" "${dds_flags[@]}" "${client_coding[@]}" --session-prefix cap- --devices "$n" --script "$SCRIPT" --seconds "$RUN_S" \
-        "${client_load_clocks[@]}" \
+        "${client_load_clocks[@]}" "${server_rt[@]}" \
         --json load.json --csv load.csv --server-stats >load.out 2>load.err &
     pids+=("$!")
     wait "$!" || client_rc=$?

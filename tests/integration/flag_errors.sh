@@ -32,6 +32,7 @@ expect 2 "--pose-timeout-ms must be within (0, 60000]" "$bin/hapsim-server" --li
 expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.0.0.1:0 --quantum-mm 5
 expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-server" --listen 127.0.0.1:0 --rt-priority 99
 expect 2 "--clock-phase-spread must be within \[0, 1\]" "$bin/hapsim-load" --clock-phase-spread 2
+expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-bridge" --rt-priority 99
 # Durations that would overflow when converted to ns or tick counts
 # (docs/reliability.md, gap 6).
 expect 2 "--seconds must be within \[0, 1e7\]" "$bin/hapsim-viewer" --session s --seconds 1e300

@@ -1,9 +1,13 @@
 #include "hapsim/bridge/device_flags.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <stdexcept>
 
 #include "hapsim/common/logging.h"
+#include "hapsim/common/thread_setup.h"
+#include "hapsim/dds/io_thread.h"
 
 namespace hapsim::bridge {
 
@@ -111,6 +115,24 @@ void AddProcessFlags(common::Flags& flags, ProcessFlags* p) {
   flags.Add("dds-domain", &p->dds_domain, "DDS domain id (0..232)");
   flags.Add("dds-config", &p->dds_config, "Cyclone DDS config file (default: CYCLONEDDS_URI if set, else built-in loopback)");
   flags.Add("log-level", &p->log_level, "trace, debug, info, warn, error or off");
+  flags.Add("rt-priority", &p->rt_priority,
+            "run the servo thread at this SCHED_FIFO priority and the DDS threads one above (needs\n"
+            "CAP_SYS_NICE or LimitRTPRIO; refused: a warning, normal priority). 0: normal scheduling");
+}
+
+void RaiseServoPath(int priority) {
+  if (priority <= 0) return;
+  const bool servo = common::RunThisThreadAtRealtime(priority);
+  const auto receive = dds::RaiseDdsThreads(priority + 1);
+  if (!servo || receive.refused > 0) {
+    spdlog::warn(
+        "real-time priority refused (needs CAP_SYS_NICE or LimitRTPRIO >= {}): the servo loop runs at "
+        "normal priority",
+        priority + 1);
+    return;
+  }
+  spdlog::info("real-time priority: servo thread at SCHED_FIFO {}, {} DDS threads at {}", priority, receive.raised,
+               priority + 1);
 }
 
 int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessFlags& process, const char* program,
@@ -126,6 +148,10 @@ int ParseCommandLine(common::Flags& flags, int argc, char** argv, const ProcessF
   }
   if (process.dds_domain < 0 || process.dds_domain > 232) {
     std::fprintf(stderr, "%s: --dds-domain must be in 0..232\n", program);
+    return 2;
+  }
+  if (process.rt_priority < 0 || process.rt_priority > 98) {
+    std::fprintf(stderr, "%s: --rt-priority must be within [0, 98]\n", program);
     return 2;
   }
   if (!common::SetUpLogging(log_name, process.log_level)) {

@@ -149,10 +149,10 @@ void ServerApp::StartMetrics(const std::string& listen_address) {
 }
 
 void ServerApp::RaiseTheTickPath(int priority) {
-  // A pose's way in (receive threads) one above the ticks it wakes: routing
+  // The DDS threads (a pose's way in) one above the ticks they wake: routing
   // it is short, and a busy tick must not hold up another session's pose.
   const auto ticks = common::RaiseThreadsNamed({TickPool::kWorkerThreadName}, priority);
-  const auto receive = dds::RaiseReceiveThreads(priority + 1);
+  const auto receive = dds::RaiseDdsThreads(priority + 1);
   if (ticks.refused + receive.refused > 0 || ticks.raised == 0) {
     spdlog::warn(
         "real-time priority refused for {} of {} threads (needs CAP_SYS_NICE or LimitRTPRIO >= {}): the "
@@ -160,7 +160,7 @@ void ServerApp::RaiseTheTickPath(int priority) {
         ticks.refused + receive.refused, ticks.raised + receive.raised + ticks.refused + receive.refused, priority + 1);
     return;
   }
-  spdlog::info("real-time priority: {} tick workers at SCHED_FIFO {}, {} receive threads at {}", ticks.raised, priority,
+  spdlog::info("real-time priority: {} tick workers at SCHED_FIFO {}, {} DDS threads at {}", ticks.raised, priority,
                receive.raised, priority + 1);
 }
 

@@ -43,5 +43,7 @@ struct RealtimeResult {
   int refused = 0;  // threads found by name whose change the kernel refused
 };
 RealtimeResult RaiseThreadsNamed(std::initializer_list<const char*> names, int priority);
+// The calling thread at SCHED_FIFO `priority`; false where refused (unchanged).
+bool RunThisThreadAtRealtime(int priority);
 
 }  // namespace hapsim::common

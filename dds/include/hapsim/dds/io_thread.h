@@ -49,10 +49,15 @@ class IoThread {
   std::thread thread_;
 };
 
-// Real-time priority (common::RaiseThreadsNamed) for the threads a sample
-// crosses on its way in: Cyclone's receive threads ("recv"; "recvUC" and
-// "recvMC" when it runs several) and this process's IoThread. Call after
-// the participant exists and the IoThread started.
-common::RealtimeResult RaiseReceiveThreads(int priority);
+// Real-time priority (common::RaiseThreadsNamed) for every DDS thread of
+// the process: Cyclone's own (receive "recv"/"recvUC"/"recvMC", delivery
+// queues "dq.*", timed events "tev" — heartbeats and acks —, "gc") and this
+// process's IoThread. All of them, not only the receive path: a real-time
+// thread writing a sample takes locks Cyclone's other threads hold too, and
+// one of those left at normal priority behind busy programs on the core
+// stalls the writer (priority inversion: measured, a 1 kHz bridge's round
+// trip grew to seconds). They do little work each. Call after the
+// participant exists and the IoThread started.
+common::RealtimeResult RaiseDdsThreads(int priority);
 
 }  // namespace hapsim::dds

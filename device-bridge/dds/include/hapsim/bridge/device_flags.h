@@ -47,11 +47,19 @@ void AddPoseDeadbandFlags(common::Flags& flags, PoseDeadbandFlags* deadband);
 
 struct ProcessFlags {
   int dds_domain = 0;
+  int rt_priority = 0;     // SCHED_FIFO priority of the servo thread(s); the DDS receive threads one above; 0: off
   std::string dds_config;  // empty: CYCLONEDDS_URI if set, else the built-in loopback config
   std::string log_level = "info";
   dds::Options Dds() const { return {static_cast<std::uint32_t>(dds_domain), dds_config}; }
 };
 void AddProcessFlags(common::Flags& flags, ProcessFlags* process);
+
+// --rt-priority on the servo thread calling it (after the DDS side started):
+// this thread at SCHED_FIFO `priority`, the DDS receive threads one above, so
+// a 1 kHz servo tick and the force models it waits for are never held up by
+// other programs on the core. Logs what was done or refused (never fatal).
+// No-op at 0.
+void RaiseServoPath(int priority);
 
 // Parses argv into flags, checks the DDS domain and sets up logging under
 // log_name. Returns -1 to go on; otherwise main() returns the value: 0 after
