@@ -360,7 +360,7 @@ if [ "$DDSPERF_S" != 0 ]; then
   fi
 fi
 # Which modes' clients can drive the baseline server (1 s probe, tissue_block, N = 1).
-baseline_modes="" coding=every
+baseline_modes="" coding=every recording=off recording_run=0
 if [ -n "$BASELINE_BIN" ]; then
   saved_run_s=$RUN_S saved_runs=$out/runs.txt
   RUN_S=1
@@ -378,7 +378,7 @@ if [ -n "$BASELINE_BIN" ]; then
   RUN_S=$saved_run_s
   : >"$saved_runs"
 fi
-recording=off recording_run=0
+recording_run=0
 for link in $LINKS; do
  for coding in $CODINGS; do
   for mode in $MODES; do
