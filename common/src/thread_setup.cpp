@@ -21,15 +21,16 @@ void RunThisThreadOnlyWhenIdle() {
   if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &param) != 0) LowerThisThreadPriority();
 }
 
-void NameThisThread(const char* name) {
-  const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));
-  (void)pthread_setname_np(pthread_self(), cut.c_str());
+namespace {
+void NamePthread(pthread_t thread, const char* name) {
+  const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));  // the kernel's limit
+  (void)pthread_setname_np(thread, cut.c_str());
 }
+}  // namespace
 
-void NameThread(std::thread& thread, const char* name) {
-  const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));
-  (void)pthread_setname_np(thread.native_handle(), cut.c_str());
-}
+void NameThisThread(const char* name) { NamePthread(pthread_self(), name); }
+
+void NameThread(std::thread& thread, const char* name) { NamePthread(thread.native_handle(), name); }
 
 bool RunThisThreadAtRealtime(int priority) {
   sched_param param{};

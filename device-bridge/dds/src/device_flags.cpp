@@ -123,15 +123,15 @@ void AddProcessFlags(common::Flags& flags, ProcessFlags* p) {
 void RaiseServoPath(int priority) {
   if (priority <= 0) return;
   const bool servo = common::RunThisThreadAtRealtime(priority);
-  const auto receive = dds::RaiseDdsThreads(priority + 1);
-  if (!servo || receive.refused > 0) {
+  const auto dds_threads = dds::RaiseDdsThreads(priority + 1);
+  if (!servo || dds_threads.refused > 0) {
     spdlog::warn(
         "real-time priority refused (needs CAP_SYS_NICE or LimitRTPRIO >= {}): the servo loop runs at "
         "normal priority",
         priority + 1);
     return;
   }
-  spdlog::info("real-time priority: servo thread at SCHED_FIFO {}, {} DDS threads at {}", priority, receive.raised,
+  spdlog::info("real-time priority: servo thread at SCHED_FIFO {}, {} DDS threads at {}", priority, dds_threads.raised,
                priority + 1);
 }
 

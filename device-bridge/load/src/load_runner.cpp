@@ -93,7 +93,7 @@ void LoadRunner::CloseInterval(double end_s) {
   interval_model_age_s_.Clear();
 }
 
-void LoadRunner::CloseIntervalsUpTo(double t_s) {
+void LoadRunner::CloseIntervalIfEnded(double t_s) {
   if (config_.interval_s > 0.0 && t_s >= interval_end_s_) {
     CloseInterval(interval_end_s_);
     interval_end_s_ += config_.interval_s;
@@ -106,7 +106,7 @@ void LoadRunner::RunInLockstep(const std::atomic<bool>& stop, ServoThreadReport*
   while (!stop.load(std::memory_order_relaxed)) {
     const double t = ticker.Wait();
     if (config_.run_seconds > 0.0 && t >= config_.run_seconds) break;
-    CloseIntervalsUpTo(t);
+    CloseIntervalIfEnded(t);
     const std::int64_t start_ns = common::SteadyNowNs();
     for (std::size_t i = 0; i < channels_.size(); ++i) StepDevice(i, t);
     work_s.Record(static_cast<double>(common::SteadyNowNs() - start_ns) * 1e-9);
@@ -143,7 +143,7 @@ void LoadRunner::RunOnDeviceClocks(const std::atomic<bool>& stop, ServoThreadRep
         start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(next_s)));
     const double now_s = since_start_s();
     lateness_s.Record(now_s - next_s);
-    CloseIntervalsUpTo(now_s);
+    CloseIntervalIfEnded(now_s);
     const std::int64_t start_ns = common::SteadyNowNs();
     clocks.TakeDue(now_s, &due, &due_times_s);
     for (std::size_t k = 0; k < due.size(); ++k) StepDevice(due[k], due_times_s[k]);

@@ -27,14 +27,18 @@ Status ToGrpcStatus(const ServiceError& e) {
   return {StatusCode::INTERNAL, e.what()};
 }
 
-std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc::ServerContextBase* context) {
-  if (!policy.enabled()) return std::nullopt;
-  if (!context) return policy.Authenticate(nullptr);
+std::optional<std::string> AuthorizationOf(const grpc::ServerContextBase* context) {
+  if (!context) return std::nullopt;
   const auto& metadata = context->client_metadata();
   const auto found = metadata.find("authorization");
-  if (found == metadata.end()) return policy.Authenticate(nullptr);
-  const std::string value(found->second.data(), found->second.size());
-  return policy.Authenticate(&value);
+  if (found == metadata.end()) return std::nullopt;
+  return std::string(found->second.data(), found->second.size());
+}
+
+std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc::ServerContextBase* context) {
+  if (!policy.enabled()) return std::nullopt;
+  const auto authorization = AuthorizationOf(context);
+  return policy.Authenticate(authorization ? &*authorization : nullptr);
 }
 
 const AccessPolicy& OpenAccessPolicy() {

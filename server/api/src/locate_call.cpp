@@ -11,14 +11,6 @@ namespace {
 
 std::string Describe(const DirectoryEntry& server) { return server.name + " (" + server.address + ")"; }
 
-// The caller's "authorization" metadata value, if sent.
-std::optional<std::string> AuthorizationOf(const grpc::ServerContext* context) {
-  const auto& metadata = context->client_metadata();
-  const auto found = metadata.find("authorization");
-  if (found == metadata.end()) return std::nullopt;
-  return std::string(found->second.data(), found->second.size());
-}
-
 }  // namespace
 
 LocateCall::LocateCall(const SessionRegistry* registry, const AccessPolicy* policy, const PeerLocator* peers)

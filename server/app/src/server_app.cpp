@@ -152,16 +152,17 @@ void ServerApp::RaiseTheTickPath(int priority) {
   // The DDS threads (a pose's way in) one above the ticks they wake: routing
   // it is short, and a busy tick must not hold up another session's pose.
   const auto ticks = common::RaiseThreadsNamed({TickPool::kWorkerThreadName}, priority);
-  const auto receive = dds::RaiseDdsThreads(priority + 1);
-  if (ticks.refused + receive.refused > 0 || ticks.raised == 0) {
+  const auto dds_threads = dds::RaiseDdsThreads(priority + 1);
+  if (ticks.refused + dds_threads.refused > 0 || ticks.raised == 0) {
     spdlog::warn(
         "real-time priority refused for {} of {} threads (needs CAP_SYS_NICE or LimitRTPRIO >= {}): the "
         "tick runs at normal priority, where viewers and gRPC compete with it",
-        ticks.refused + receive.refused, ticks.raised + receive.raised + ticks.refused + receive.refused, priority + 1);
+        ticks.refused + dds_threads.refused, ticks.raised + dds_threads.raised + ticks.refused + dds_threads.refused,
+        priority + 1);
     return;
   }
   spdlog::info("real-time priority: {} tick workers at SCHED_FIFO {}, {} DDS threads at {}", ticks.raised, priority,
-               receive.raised, priority + 1);
+               dds_threads.raised, priority + 1);
 }
 
 void ServerApp::BringBack() {

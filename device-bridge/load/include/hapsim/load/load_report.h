@@ -45,7 +45,7 @@ struct LoadTotals {
 // The one thread that steps every device: if it cannot hold its rate, the
 // figures above measure the load generator, not the server.
 struct ServoThreadReport {
-  std::uint64_t ticks = 0;
+  std::uint64_t ticks = 0;         // wakes: one per period in lockstep, else one per batch of due device ticks
   std::uint64_t reanchors = 0;     // stalls longer than 10 periods
   common::Percentiles lateness_s; // wake behind its deadline
   common::Percentiles work_s;     // stepping all devices in one tick

@@ -56,8 +56,9 @@ class LoadRunner {
   void RunOnDeviceClocks(const std::atomic<bool>& stop, ServoThreadReport* servo);
   // Closes the interval ending at end_s (servo thread; no allocation).
   void CloseInterval(double end_s);
-  // Closes every interval that ended by t_s.
-  void CloseIntervalsUpTo(double t_s);
+  // Closes the current interval if it ended by t_s (one per wake: a wake
+  // never comes a whole interval late).
+  void CloseIntervalIfEnded(double t_s);
   LoadReport Report(double elapsed_s) const;
 
   LoadRunConfig config_;

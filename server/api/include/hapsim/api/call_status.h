@@ -17,6 +17,10 @@ namespace hapsim::service {
 
 grpc::Status ToGrpcStatus(const ServiceError& e);
 
+// The call's "authorization" metadata value, if sent (what a server passes
+// on unchanged when it asks another server for its caller).
+std::optional<std::string> AuthorizationOf(const grpc::ServerContextBase* context);
+
 // The caller behind a gRPC call's metadata ("authorization"), for every
 // service: nullopt in development mode; throws ServiceError(kUnauthenticated).
 std::optional<Principal> AuthenticateCall(const AccessPolicy& policy, const grpc::ServerContextBase* context);
