@@ -70,7 +70,7 @@ class MetricsTest : public ::testing::Test {
 
 TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
   const auto m1 = app_->registry().Create("m1", "tissue_block", "test", {});
-  app_->registry().Create("m2", "vessel", "test", {});
+  app_->registry().Create("m2", "acupuncture", "test", {});
   // Wait for ticks rather than for a time: under sanitizers a tick is slower.
   for (int k = 0; k < 1000 && m1->counters().tick.ticks.load() < 50; ++k) std::this_thread::sleep_for(10ms);
   const std::string response = Http(app_->metrics_port(), "GET /metrics HTTP/1.1\r\nHost: x\r\n\r\n");
@@ -111,7 +111,7 @@ TEST_F(MetricsTest, TheExpositionParsesAndCarriesTheSessionCounters) {
   const double ticks = values["hapsim_session_ticks_total{session=\"m1\",scene=\"tissue_block\"}"];
   EXPECT_GE(ticks, 50.0);  // waited for at least that many
   EXPECT_LE(ticks, static_cast<double>(m1->counters().tick.ticks.load()));
-  EXPECT_EQ(values.count("hapsim_session_ticks_total{session=\"m2\",scene=\"vessel\"}"), 1u);
+  EXPECT_EQ(values.count("hapsim_session_ticks_total{session=\"m2\",scene=\"acupuncture\"}"), 1u);
   // Mean tick time from the two counters, as a dashboard would compute it.
   const double work_s = values["hapsim_session_tick_seconds_total{session=\"m1\",scene=\"tissue_block\"}"];
   const double m1_ticks = values["hapsim_session_ticks_total{session=\"m1\",scene=\"tissue_block\"}"];
