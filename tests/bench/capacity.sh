@@ -27,6 +27,9 @@
 #   MODES [load bridges]
 #   RUN_S [20]                       seconds each client drives its device
 #   SCRIPT [insertion]               synthetic script of every device
+#   SCENE_PARAMS []                  scene parameters of every session, as
+#                                    KEY=NUMBER words (hapsim-ctl create
+#                                    --param), e.g. "rest_force_N=0"
 #   BASELINE_BIN []                  directory with an older hapsim-server
 #                                    (e.g. a build from before the worker pool:
 #                                    one thread per session)
@@ -99,6 +102,9 @@ SCENES=${SCENES:-tissue_block acupuncture}
 MODES=${MODES:-load bridges}
 RUN_S=${RUN_S:-20}
 SCRIPT=${SCRIPT:-insertion}
+SCENE_PARAMS=${SCENE_PARAMS:-}
+scene_param_flags=()
+for p in $SCENE_PARAMS; do scene_param_flags+=(--param "$p"); done
 BASELINE_BIN=${BASELINE_BIN:-}
 if [ -z "${BASELINE_CLIENT_BIN:-}" ]; then
   BASELINE_CLIENT_BIN=$bin
@@ -255,7 +261,7 @@ run_one() {
   domain=$(new_domain)
   {
     echo "mode=$mode"; echo "server=$label"; echo "scene=$scene"; echo "n=$n"; echo "run_s=$RUN_S"
-    echo "script=$SCRIPT"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
+    echo "script=$SCRIPT"; echo "scene_params=$SCENE_PARAMS"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
     echo "coding=$coding"; echo "recording=$recording"; echo "load_clocks=$LOAD_CLOCKS"; echo "rt_priority=$RT_PRIORITY"
   } >run.env
@@ -272,7 +278,7 @@ run_one() {
   addr=$server_ip:$(cat port)
   ctl=("${on_clients[@]}" taskset -c 1 timeout 30 "$bin/hapsim-ctl" --server "$addr")
   for ((i = 0; i < n; i++)); do
-    if ! "${ctl[@]}" create --id "cap-$i" --scene "$scene" >>create.out 2>>create.err; then
+    if ! "${ctl[@]}" create --id "cap-$i" --scene "$scene" "${scene_param_flags[@]}" >>create.out 2>>create.err; then
       failure="hapsim-ctl create cap-$i failed: $(tail -1 create.err)"; break
     fi
   done
@@ -344,7 +350,7 @@ run_ddsperf() {  # LINK
   echo "date=$(date -u +%FT%TZ)"; echo "host=$(hostname)"; echo "cpus=$(nproc)"
   echo "cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')"
   echo "commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)$(git -C "$root" diff --quiet HEAD 2>/dev/null || echo +modified)"
-  echo "counts=$COUNTS"; echo "scenes=$SCENES"; echo "modes=$MODES"; echo "run_s=$RUN_S"; echo "script=$SCRIPT"
+  echo "counts=$COUNTS"; echo "scenes=$SCENES"; echo "modes=$MODES"; echo "run_s=$RUN_S"; echo "script=$SCRIPT"; echo "scene_params=$SCENE_PARAMS"
   echo "baseline=${BASELINE_BIN:-none}"; echo "rmem_default=$(cat /proc/sys/net/core/rmem_default)"
   echo "rmem_max=$(cat /proc/sys/net/core/rmem_max)"; echo "links=$LINKS"; echo "codings=$CODINGS"
 } >"$out/meta.env"

@@ -31,10 +31,12 @@ double ThreadCpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-// Grid spacing for a 60 x 40 mm patch of about `nodes` nodes.
-CuttingParams SkinOf(int nodes) {
+// Grid spacing for a 60 x 40 mm patch of about `nodes` nodes; resting skin
+// (the default) or every node every step (rest_force_N = 0).
+CuttingParams SkinOf(int nodes, bool resting = true) {
   CuttingParams p;
   p.spacing_m = std::sqrt(p.patch_length_m * p.patch_width_m / nodes);
+  if (!resting) p.rest_force_N = 0.0;
   return p;
 }
 
@@ -61,13 +63,14 @@ void PressIn(CuttingScene& s) {
 // 99th percentile and slowest tick, and the mean of the ticks that
 // committed a segment of the cut (the cut's own cost is there).
 void BM_CuttingTick_Cutting(benchmark::State& state) {
-  CuttingScene s(SkinOf(static_cast<int>(state.range(0))));
+  CuttingScene s(SkinOf(static_cast<int>(state.range(0)), state.range(1) != 0));
   PressIn(s);
   const double step_m = kSpeed_m_per_s * 1e-3;
   double x = -0.5 * kStroke_m, commit_s = 0.0;
   std::vector<double> tick_s;
   tick_s.reserve(1 << 20);
   std::int64_t commits = 0;
+  double awake_sum = 0.0;
   for (auto _ : state) {
     x += step_m;
     if (x > 0.5 * kStroke_m) {
@@ -83,6 +86,7 @@ void BM_CuttingTick_Cutting(benchmark::State& state) {
     if (tick_s.size() < tick_s.capacity()) tick_s.push_back(dt);
     if (s.CutTotals().triangles_removed != before) commit_s += dt, ++commits;
     benchmark::DoNotOptimize(s.ToolForce_W_N());
+    awake_sum += s.AwakeNodes();
   }
   if (!s.Cutting()) state.SkipWithError("the blade stopped cutting");
   std::sort(tick_s.begin(), tick_s.end());
@@ -94,13 +98,19 @@ void BM_CuttingTick_Cutting(benchmark::State& state) {
   state.counters["p99_us"] = tick_s.empty() ? 0.0 : 1e6 * tick_s[static_cast<std::size_t>(0.99 * (n - 1))];
   state.counters["max_us"] = tick_s.empty() ? 0.0 : 1e6 * tick_s.back();
   state.counters["commit_mean_us"] = commits ? 1e6 * commit_s / static_cast<double>(commits) : 0.0;
+  state.counters["awake_nodes"] = awake_sum / static_cast<double>(std::max<std::int64_t>(state.iterations(), 1));
 }
-BENCHMARK(BM_CuttingTick_Cutting)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond)->MinTime(3.0);
+// Args: skin nodes (3876: the scene's default), resting skin (1) or the full step (0: the baseline).
+BENCHMARK(BM_CuttingTick_Cutting)
+    ->ArgsProduct({{3876, 10000, 100000}, {0, 1}})
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(3.0);
 
 // Baseline: the same skin, the blade held in the air (collision finds
-// nothing, no cut): the MSM step and the grid rebuild alone.
+// nothing, no cut): the MSM step of every node (resting skin would do
+// nothing here).
 void BM_CuttingTick_BladeInAir(benchmark::State& state) {
-  CuttingScene s(SkinOf(static_cast<int>(state.range(0))));
+  CuttingScene s(SkinOf(static_cast<int>(state.range(0)), false));
   for (auto _ : state) {
     s.Step(Blade(0.0, 0.005, Eigen::Vector3d::Zero()), 1e-3);
     benchmark::DoNotOptimize(s.ToolForce_W_N());

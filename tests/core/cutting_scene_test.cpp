@@ -98,6 +98,7 @@ TEST(CuttingScene, AStraightStrokeCutsAnIncisionAlongItKeepingTheMeshSound) {
 double SettledMiddleGape_m(double residual_strain) {
   CuttingParams params;
   params.residual_strain = residual_strain;
+  params.rest_force_N = 0.0;  // the model's own response (resting skin: cutting_resting_test.cpp)
   CuttingScene scene{params};
   Drive(scene, Stroke({-0.01, 0.0003}, 0.0, 0.02));
   const SkinMesh& skin = scene.Skin();

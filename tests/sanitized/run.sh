@@ -40,9 +40,11 @@ cd "$build"
 # contact and reset run here in VesselBaselines and the non-finite-tool
 # test) and the keyframe size of every scene at its largest accepted mesh
 # (138 s: it builds each scene's biggest mesh; the encoder runs here on
-# every scene's default mesh).
+# every scene's default mesh), and the cutting scene's resting-skin
+# comparisons with the full step (two scenes side by side over 4-6 s of
+# strokes; the resting skin itself runs here in every cutting test).
 slow='Meshless\.UniaxialTension|SceneContract\..*vessel|EveryScene\..*vessel|SceneParams\..*vessel'
 slow+='|VesselScene\.(EveryShapeBuilds|PressedTwoMillimetres|ALateTicksJump|TheDeviceIsAsStiff|ALightTouch|PressedPastTheFlattenedVein|LetGoAtOnce)'
-slow+='|VesselScene\.(APressOnTheTop|ABlowUpIsCounted)|KeyframeSize\.EverySceneAtItsLargest'
+slow+='|VesselScene\.(APressOnTheTop|ABlowUpIsCounted)|KeyframeSize\.EverySceneAtItsLargest|CuttingResting\.(Every|ADeepCut)'
 ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|wire|server/.*|device-bridge/.*|client-viewer)$' \
     -E "$slow"

@@ -126,7 +126,20 @@ ParamTable<CuttingParams> MakeCuttingTable() {
             .max = 1e6,
             .min_open = true,
             .description = "a step above this kinetic energy is a blow-up: counted, and the scene resets"},
-           &P::max_kinetic_energy_J);
+           &P::max_kinetic_energy_J)
+      .Add({.name = "rest_force_N",
+            .unit = "N",
+            .min = 0,
+            .max = 1e-5,
+            .description = "skin under this net force (and rest_speed_m_per_s) rests out of the step until pulled; "
+                           "0 = every node every step (error vs the full step measured up to 1e-5 N)"},
+           &P::rest_force_N)
+      .Add({.name = "rest_speed_m_per_s",
+            .unit = "m/s",
+            .min = 0,
+            .max = 0.01,
+            .description = "speed under which a skin node counts as quiet (it rests after 20 quiet steps)"},
+           &P::rest_speed_m_per_s);
   return t;
 }
 

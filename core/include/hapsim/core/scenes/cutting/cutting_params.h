@@ -48,6 +48,14 @@ struct CuttingParams {
   double cut_force_N = 0.3;                  // Coulomb level of the drag while cutting
   double cut_damping_Ns_per_m = 5.0;         // viscous part of the drag
   double max_kinetic_energy_J = 10.0;        // blow-up guard
+  // Resting nodes (msm/resting_nodes.h): skin whose net force stays under
+  // rest_force_N and speed under rest_speed_m_per_s is left out of the step
+  // until something pulls it; 0 = every node every step. A resting patch is
+  // held in the plane by its anchors alone, so it sits within ~rest_force /
+  // anchor_stiffness (10 um) of the full step's skin: measured side by side
+  // up to 1e-5 N (docs/validation.md), the parameter's limit.
+  double rest_force_N = 1e-5;
+  double rest_speed_m_per_s = 1e-4;
 };
 
 const ParamTable<CuttingParams>& CuttingParamTable();

@@ -44,6 +44,7 @@
 #include "hapsim/core/cutting/skin_cutter.h"
 #include "hapsim/core/cutting/skin_mesh.h"
 #include "hapsim/core/msm/msm_step.h"
+#include "hapsim/core/msm/resting_nodes.h"
 #include "hapsim/core/scenes/cutting/cutting_params.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/core/scenes/scene_outputs.h"
@@ -72,6 +73,8 @@ class CuttingScene final : public SceneWithOutputs {
   bool Cutting() const { return cutting_; }
   const std::vector<std::uint32_t>& CollidingNodes() const { return colliding_; }  // last step, ascending
   const CutStats& CutTotals() const { return cut_totals_; }
+  // Skin nodes the last step integrated (all free live nodes with rest_force_N = 0).
+  std::int32_t AwakeNodes() const;
   double ResidualStress_Pa() const { return params_.youngs_modulus_Pa * params_.residual_strain; }
   // The blade cylinder for a tool pose.
   Cylinder BladeOf(const ToolInput& tool) const;
@@ -93,6 +96,7 @@ class CuttingScene final : public SceneWithOutputs {
   Eigen::Vector3d IntoTissue(std::uint32_t lip_node) const;
   void UpdateForceModel(const ToolInput& tool);
   void UpdateBladeMesh(const Cylinder& blade);
+  StepReport StepSkin(double h_s);
   void Log(SceneEventKind kind, const Eigen::Vector3d& where, double value = 0.0);
   void NumericalReset();
 
@@ -102,6 +106,11 @@ class CuttingScene final : public SceneWithOutputs {
   MsmState initial_state_;
   std::vector<std::uint8_t> initial_on_lip_;
   MsmWorkspace workspace_;
+  // Resting skin (rest_force_N > 0): woken by contact, by a cut (every
+  // unbalanced node after a topology edit) and by awake neighbours.
+  RestingNodes resting_;
+  std::uint64_t rest_checked_version_ = ~std::uint64_t{0};
+  Eigen::AlignedBox3d cut_box_;  // rest positions the cuts since the last step may have unbalanced (empty: none)
   SkinCutter cutter_;
   CutConfig cut_config_;
   IncisionCurve curve_;

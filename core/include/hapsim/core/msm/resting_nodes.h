@@ -1,0 +1,96 @@
+// Resting nodes: the gingival paper's local update region (section 1: only
+// nodes near the collision are updated) grown to wherever the tissue moves.
+// A node rests — is left out of the step, its velocity zero — once its speed
+// has stayed under `speed_m_per_s` for `quiet_steps` steps in a row and the
+// net force on it is under `force_N` (checked every kRestCheckSteps). A resting node wakes when the net
+// force on it exceeds `force_N` (an awake neighbour moved and pulls it) or
+// when the scene wakes it (the tool loads it, a cut changed its springs).
+//
+// Error bound: a resting node's net force is below force_N whenever it is
+// checked — at rest, after every step in which a spring neighbour was awake,
+// and over the whole mesh after a topology edit — and nothing else changes
+// it. It is therefore within force_N / k of the position where the full step
+// would hold it (k: the stiffness holding it in place), plus what the
+// quiet speed lets it drift before it rests. The cutting scene measures the
+// whole-mesh effect against the full step (docs/validation.md).
+//
+// Deterministic: lists are built in ascending node order, the same on every
+// machine. Never allocates after construction.
+#pragma once
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <vector>
+
+#include "hapsim/core/msm/local_region.h"
+#include "hapsim/core/msm/msm_model.h"
+#include "hapsim/core/msm/msm_state.h"
+
+namespace hapsim::core {
+
+struct RestConfig {
+  double force_N = 1e-4;          // net force under which a node may rest and above which it wakes
+  double speed_m_per_s = 1e-4;    // speed under which a node counts as quiet
+  std::int32_t quiet_steps = 20;  // quiet steps in a row before it rests
+};
+
+// The net force the step would apply to free node i at the state: its
+// springs (with their along-spring damping), external and residual forces,
+// gravity, absolute damping and anchors — the terms of msm_kernels.h's
+// spring pass and NodeTerms, in one node's terms.
+Eigen::Vector3d NetNodeForce_N(const MsmModel& model, const MsmState& state, std::int32_t node);
+
+class RestingNodes {
+ public:
+  RestingNodes() = default;
+  // Every node resting (a model at rest in its initial state). Allocates.
+  RestingNodes(const MsmModel& model, const RestConfig& config);
+
+  const RestConfig& Config() const { return config_; }
+
+  // The scene moves the node this step (contact on it): it is integrated.
+  void Wake(const MsmModel& model, std::int32_t node);
+  // Every node resting again (after a reset to a state at rest).
+  void RestAll();
+  // After a topology edit (spring indices move): the region is rebuilt, and
+  // every free live resting node inside `box` (rest positions) whose net
+  // force exceeds force_N wakes — the box must hold every node the edit
+  // touched.
+  void AfterTopologyEdit(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box);
+
+  // The step's region: the awake free nodes. Woken nodes join it at once
+  // (O(degree) each); nodes that rest leave it at the next rebuild.
+  const LocalRegion& Region(const MsmModel& model);
+  // After the step on Region(): resting neighbours the step pulled wake;
+  // every rest_check_steps, nodes quiet for quiet_steps and balanced rest.
+  void Settle(const MsmModel& model, MsmState& state);
+
+  std::int32_t AwakeCount() const { return awake_count_; }
+  bool Awake(std::int32_t node) const { return awake_[static_cast<std::size_t>(node)] != 0; }
+  // For the scene's state hash: what decides the next steps besides x and v.
+  const std::vector<std::uint8_t>& AwakeFlags() const { return awake_; }
+  const std::vector<std::int32_t>& QuietSteps() const { return quiet_steps_; }
+  std::int32_t StepsSinceRestCheck() const { return steps_since_rest_check_; }
+
+  // Steps between the checks that let quiet nodes rest (and rebuild the
+  // region without them).
+  static constexpr std::int32_t kRestCheckSteps = 16;
+
+ private:
+  bool Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const;
+  void AddToRegion(const MsmModel& model, std::int32_t node);
+  void RebuildRegion(const MsmModel& model);
+
+  RestConfig config_;
+  std::vector<std::uint8_t> awake_;        // (n)
+  std::vector<std::int32_t> quiet_steps_;  // (n) consecutive quiet steps of an awake node
+  std::int32_t awake_count_ = 0;
+  std::int32_t steps_since_rest_check_ = 0;
+  // The region and its membership marks; stale = rebuilt at the next Region().
+  bool region_stale_ = true;
+  LocalRegion region_;
+  std::vector<std::uint8_t> spring_in_region_;  // (spring capacity)
+  std::vector<std::uint8_t> node_touched_;      // (n)
+};
+
+}  // namespace hapsim::core

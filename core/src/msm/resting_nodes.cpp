@@ -1,0 +1,140 @@
+#include "hapsim/core/msm/resting_nodes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "msm_kernels.h"
+
+namespace hapsim::core {
+
+Eigen::Vector3d NetNodeForce_N(const MsmModel& m, const MsmState& s, std::int32_t i) {
+  const Eigen::Vector3d xi = s.x_m.col(i), vi = s.v_m_per_s.col(i);
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  const std::int32_t* springs = m.SpringsOf(i);
+  for (std::int32_t e = 0; e < m.DegreeOf(i); ++e) {
+    const auto sp = static_cast<std::size_t>(springs[e]);
+    const std::int32_t j = m.spring_i[sp] == i ? m.spring_j[sp] : m.spring_i[sp];
+    // The kernel's form: F_i = [k (1 - L0/l) + c (d . dv) / l^2] d, d = x_j - x_i.
+    const Eigen::Vector3d d = s.x_m.col(j) - xi, dv = s.v_m_per_s.col(j) - vi;
+    const double inv_l = 1.0 / std::sqrt(d.squaredNorm() + detail::kTinyLength2_m2);
+    f += (m.spring_k_N_per_m[sp] * (1.0 - m.spring_rest_m[sp] * inv_l) +
+          m.spring_c_Ns_per_m[sp] * d.dot(dv) * (inv_l * inv_l)) *
+         d;
+  }
+  f += s.f_ext_N.col(i) + s.f_residual_N.col(i) + m.mass_kg[i] * m.gravity_m_per_s2 -
+       m.absolute_damping_Ns_per_m[i] * vi - m.anchor_k_sum_N_per_m[i] * xi + m.anchor_kp_sum_N.col(i);
+  return f;
+}
+
+RestingNodes::RestingNodes(const MsmModel& model, const RestConfig& config)
+    : config_(config),
+      awake_(static_cast<std::size_t>(model.num_nodes), 0),
+      quiet_steps_(static_cast<std::size_t>(model.num_nodes), 0),
+      region_(MakeLocalRegion(model)),
+      spring_in_region_(static_cast<std::size_t>(model.spring_capacity), 0),
+      node_touched_(static_cast<std::size_t>(model.num_nodes), 0) {}
+
+bool RestingNodes::Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const {
+  return NetNodeForce_N(model, state, node).squaredNorm() > config_.force_N * config_.force_N;
+}
+
+// The node, its springs and their far ends join the current region.
+void RestingNodes::AddToRegion(const MsmModel& m, std::int32_t node) {
+  auto touch = [&](std::int32_t i) {
+    if (!node_touched_[static_cast<std::size_t>(i)]) {
+      node_touched_[static_cast<std::size_t>(i)] = 1;
+      region_.touched_nodes.push_back(i);
+    }
+  };
+  region_.active_nodes.push_back(node);
+  touch(node);
+  const std::int32_t* springs = m.SpringsOf(node);
+  for (std::int32_t e = 0; e < m.DegreeOf(node); ++e) {
+    const auto s = static_cast<std::size_t>(springs[e]);
+    if (spring_in_region_[s]) continue;
+    spring_in_region_[s] = 1;
+    region_.springs.push_back(static_cast<std::int32_t>(s));
+    touch(m.spring_i[s] == node ? m.spring_j[s] : m.spring_i[s]);
+  }
+}
+
+void RestingNodes::RebuildRegion(const MsmModel& m) {
+  for (const std::int32_t s : region_.springs) spring_in_region_[static_cast<std::size_t>(s)] = 0;
+  for (const std::int32_t i : region_.touched_nodes) node_touched_[static_cast<std::size_t>(i)] = 0;
+  region_.active_nodes.clear();
+  region_.springs.clear();
+  region_.touched_nodes.clear();
+  for (std::int32_t i = 0; i < m.num_nodes; ++i)
+    if (awake_[static_cast<std::size_t>(i)]) AddToRegion(m, i);
+  region_stale_ = false;
+}
+
+void RestingNodes::Wake(const MsmModel& model, std::int32_t node) {
+  const auto n = static_cast<std::size_t>(node);
+  if (awake_[n] || model.fixed[n] || !model.node_live[n]) return;
+  awake_[n] = 1;
+  quiet_steps_[n] = 0;
+  ++awake_count_;
+  if (!region_stale_) AddToRegion(model, node);
+}
+
+void RestingNodes::RestAll() {
+  std::fill(awake_.begin(), awake_.end(), 0);
+  std::fill(quiet_steps_.begin(), quiet_steps_.end(), 0);
+  awake_count_ = 0;
+  steps_since_rest_check_ = 0;
+  region_stale_ = true;
+}
+
+void RestingNodes::AfterTopologyEdit(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box) {
+  // Spring indices moved: the marks are cleared over the whole capacity,
+  // the region rebuilt from the awake flags.
+  std::fill(spring_in_region_.begin(), spring_in_region_.end(), 0);
+  std::fill(node_touched_.begin(), node_touched_.end(), 0);
+  region_.active_nodes.clear();
+  region_.springs.clear();
+  region_.touched_nodes.clear();
+  region_stale_ = true;
+  for (std::int32_t i = 0; i < model.num_nodes; ++i) {
+    const auto n = static_cast<std::size_t>(i);
+    if (!awake_[n] && model.node_live[n] && !model.fixed[n] && box.contains(model.x0_m.col(i)) &&
+        Unbalanced(model, state, i))
+      Wake(model, i);
+  }
+}
+
+const LocalRegion& RestingNodes::Region(const MsmModel& model) {
+  if (region_stale_) RebuildRegion(model);
+  return region_;
+}
+
+void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
+  const double speed2 = config_.speed_m_per_s * config_.speed_m_per_s;
+  for (const std::int32_t i : region_.active_nodes) {
+    const auto n = static_cast<std::size_t>(i);
+    quiet_steps_[n] = state.v_m_per_s.col(i).squaredNorm() < speed2 ? quiet_steps_[n] + 1 : 0;
+  }
+  // Resting spring neighbours of the nodes that moved: pulled past force_N,
+  // they wake (joining the region; the ones they touch are judged after
+  // the next step, as the full step would move them then).
+  const std::size_t boundary_end = region_.touched_nodes.size();
+  for (std::size_t k = 0; k < boundary_end; ++k) {
+    const std::int32_t i = region_.touched_nodes[k];
+    const auto n = static_cast<std::size_t>(i);
+    if (!awake_[n] && !model.fixed[n] && model.node_live[n] && Unbalanced(model, state, i)) Wake(model, i);
+  }
+  if (++steps_since_rest_check_ < kRestCheckSteps) return;
+  steps_since_rest_check_ = 0;
+  // Quiet long enough and nothing pulls it: it rests (and leaves the region).
+  for (const std::int32_t i : region_.active_nodes) {
+    const auto n = static_cast<std::size_t>(i);
+    if (quiet_steps_[n] < config_.quiet_steps || Unbalanced(model, state, i)) continue;
+    awake_[n] = 0;
+    quiet_steps_[n] = 0;
+    --awake_count_;
+    state.v_m_per_s.col(i).setZero();
+    region_stale_ = true;
+  }
+}
+
+}  // namespace hapsim::core

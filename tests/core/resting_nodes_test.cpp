@@ -1,0 +1,79 @@
+// Resting nodes (msm/resting_nodes.h): the per-node force they judge by is
+// the step's own force; a pull wakes the skin it moves and no more; once
+// the pull is gone every node rests again.
+#include "hapsim/core/msm/resting_nodes.h"
+
+#include <gtest/gtest.h>
+
+#include "hapsim/core/msm/msm_forces.h"
+#include "hapsim/core/msm/msm_step.h"
+#include "hapsim/core/scenes/tissue_block/tissue_block.h"
+#include "msm_test_models.h"
+
+namespace hapsim::core {
+namespace {
+
+TEST(RestingNodes, TheNetNodeForceIsWhatComputeForcesGivesEveryFreeNode) {
+  const MsmModel model = BuildMsmModel(test::IrregularNetDef());
+  MsmState state = MakeMsmState(model);
+  state.x_m += 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes);
+  state.v_m_per_s = 0.05 * Eigen::Matrix3Xd::Random(3, model.num_nodes);
+  state.f_ext_N.col(3) << 0.01, -0.02, 0.03;
+  state.f_residual_N.col(4) << -0.005, 0.0, 0.004;
+  Eigen::Matrix3Xd f;
+  ComputeForces(model, state, state.x_m, state.v_m_per_s, f);
+  for (std::int32_t i = 0; i < model.num_nodes; ++i) {
+    if (model.fixed[static_cast<std::size_t>(i)]) continue;
+    // Forces of ~1 N summed in another order: rounding only.
+    EXPECT_LT((NetNodeForce_N(model, state, i) - f.col(i)).norm(), 1e-12) << "node " << i;
+  }
+}
+
+constexpr int kGrid = 31;
+constexpr std::int32_t kCentre = (kGrid / 2) * kGrid + kGrid / 2;
+
+MsmModel RestingPatch() {
+  TissueBlockParams p;
+  p.grid_nodes = kGrid;
+  return BuildMsmModel(MakeTissueGridDef(p));
+}
+
+// n steps of the resting update with `press_N` down on the centre node;
+// marks in ever_awake the nodes any step integrated.
+void StepResting(const MsmModel& model, MsmState& state, MsmWorkspace& ws, RestingNodes& resting, double press_N, int n,
+                 std::vector<bool>& ever_awake) {
+  const IntegratorChoice symplectic{IntegratorKind::kSymplecticEuler, 0.5};
+  state.f_ext_N(2, kCentre) = -press_N;
+  for (int k = 0; k < n; ++k) {
+    if (press_N != 0.0) resting.Wake(model, kCentre);
+    for (const std::int32_t i : resting.Region(model).active_nodes) ever_awake[static_cast<std::size_t>(i)] = true;
+    StepMsmLocal(model, state, 1e-3, symplectic, ws, resting.Region(model));
+    resting.Settle(model, state);
+  }
+}
+
+TEST(RestingNodes, APullWakesTheTissueItMovesAndItAllRestsAgainWhenLetGo) {
+  const MsmModel model = RestingPatch();
+  MsmState state = MakeMsmState(model);
+  MsmWorkspace ws = MakeMsmWorkspace(model);
+  RestingNodes resting(model, RestConfig{});
+  EXPECT_EQ(resting.AwakeCount(), 0);
+  std::vector<bool> ever_awake(static_cast<std::size_t>(model.num_nodes), false);
+  StepResting(model, state, ws, resting, 0.5, 100, ever_awake);
+  EXPECT_LT(state.x_m(2, kCentre), model.x0_m(2, kCentre) - 1e-4);  // it moved, 0.1 mm at least
+  // Every node that moved was integrated (a resting node never moves), and
+  // the pull reached past the centre's own neighbours; the fixed rim never.
+  for (std::int32_t i = 0; i < model.num_nodes; ++i)
+    if (state.x_m.col(i) != model.x0_m.col(i)) EXPECT_TRUE(ever_awake[static_cast<std::size_t>(i)]) << i;
+  EXPECT_TRUE(ever_awake[kCentre + 2] && ever_awake[kCentre + 2 * kGrid]);
+  EXPECT_FALSE(ever_awake[0]);
+  // Let go: the patch swings back and settles, and then nothing is integrated.
+  StepResting(model, state, ws, resting, 0.0, 5000, ever_awake);
+  EXPECT_EQ(resting.AwakeCount(), 0);
+  EXPECT_EQ(state.v_m_per_s.cwiseAbs().maxCoeff(), 0.0);
+  // At rest where the force is under the threshold: near its rest shape.
+  EXPECT_LT((state.x_m - model.x0_m).cwiseAbs().maxCoeff(), 1e-4);
+}
+
+}  // namespace
+}  // namespace hapsim::core
