@@ -77,3 +77,36 @@ TEST(RestingNodes, APullWakesTheTissueItMovesAndItAllRestsAgainWhenLetGo) {
 
 }  // namespace
 }  // namespace hapsim::core
+
+namespace hapsim::core {
+namespace {
+
+// An overdamped node creeping home on its anchor (k = 1 N/m, c = 3 N*s/m:
+// a 3 s time constant) is quiet long before it is home, and its damping
+// balances the anchor's pull while it creeps: it must not rest until the
+// pull itself is under the rest force (judged standing still).
+TEST(RestingNodes, ACreepHeldInBalanceByDampingRestsOnlyOnceThePullIsSmall) {
+  const double k = 1.0, c = 3.0;
+  const MsmModel model = test::AnchoredNode(0.02, k, c);
+  MsmState state = MakeMsmState(model);
+  MsmWorkspace ws = MakeMsmWorkspace(model);
+  RestingNodes resting(model, RestConfig{});
+  state.x_m(0, 0) = 1e-3;  // 1 mm out, released at rest
+  resting.Wake(model, 0);
+  const IntegratorChoice symplectic{IntegratorKind::kSymplecticEuler, 0.5};
+  double x_when_quiet = -1.0;
+  for (int step = 0; step < 30000 && resting.AwakeCount() > 0; ++step) {
+    StepMsmLocal(model, state, 1e-3, symplectic, ws, resting.Region(model));
+    resting.Settle(model, state);
+    if (x_when_quiet < 0.0 && std::abs(state.v_m_per_s(0, 0)) < RestConfig{}.speed_m_per_s)
+      x_when_quiet = state.x_m(0, 0);
+  }
+  // Quiet (under 0.1 mm/s) already ~0.3 mm out; it rested within the rest
+  // force's reach of home, k x <= force_N.
+  EXPECT_GT(x_when_quiet, 2e-4);
+  EXPECT_EQ(resting.AwakeCount(), 0);
+  EXPECT_LE(std::abs(state.x_m(0, 0)), RestConfig{}.force_N / k);
+}
+
+}  // namespace
+}  // namespace hapsim::core

@@ -7,23 +7,40 @@
 
 namespace hapsim::core {
 
-Eigen::Vector3d NetNodeForce_N(const MsmModel& m, const MsmState& s, std::int32_t i) {
-  const Eigen::Vector3d xi = s.x_m.col(i), vi = s.v_m_per_s.col(i);
+namespace {
+
+// The step's force on node i; kStatic: as if every node stood still (no
+// damping terms), the force left once a node and its neighbours rest.
+template <bool kStatic>
+Eigen::Vector3d NodeForce_N(const MsmModel& m, const MsmState& s, std::int32_t i) {
+  const Eigen::Vector3d xi = s.x_m.col(i);
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   const std::int32_t* springs = m.SpringsOf(i);
   for (std::int32_t e = 0; e < m.DegreeOf(i); ++e) {
     const auto sp = static_cast<std::size_t>(springs[e]);
     const std::int32_t j = m.spring_i[sp] == i ? m.spring_j[sp] : m.spring_i[sp];
     // The kernel's form: F_i = [k (1 - L0/l) + c (d . dv) / l^2] d, d = x_j - x_i.
-    const Eigen::Vector3d d = s.x_m.col(j) - xi, dv = s.v_m_per_s.col(j) - vi;
+    const Eigen::Vector3d d = s.x_m.col(j) - xi;
     const double inv_l = 1.0 / std::sqrt(d.squaredNorm() + detail::kTinyLength2_m2);
-    f += (m.spring_k_N_per_m[sp] * (1.0 - m.spring_rest_m[sp] * inv_l) +
-          m.spring_c_Ns_per_m[sp] * d.dot(dv) * (inv_l * inv_l)) *
-         d;
+    double scale = m.spring_k_N_per_m[sp] * (1.0 - m.spring_rest_m[sp] * inv_l);
+    if constexpr (!kStatic)
+      scale += m.spring_c_Ns_per_m[sp] * d.dot(s.v_m_per_s.col(j) - s.v_m_per_s.col(i)) * (inv_l * inv_l);
+    f += scale * d;
   }
-  f += s.f_ext_N.col(i) + s.f_residual_N.col(i) + m.mass_kg[i] * m.gravity_m_per_s2 -
-       m.absolute_damping_Ns_per_m[i] * vi - m.anchor_k_sum_N_per_m[i] * xi + m.anchor_kp_sum_N.col(i);
+  f += s.f_ext_N.col(i) + s.f_residual_N.col(i) + m.mass_kg[i] * m.gravity_m_per_s2 - m.anchor_k_sum_N_per_m[i] * xi +
+       m.anchor_kp_sum_N.col(i);
+  if constexpr (!kStatic) f -= m.absolute_damping_Ns_per_m[i] * s.v_m_per_s.col(i);
   return f;
+}
+
+}  // namespace
+
+Eigen::Vector3d NetNodeForce_N(const MsmModel& m, const MsmState& s, std::int32_t i) {
+  return NodeForce_N<false>(m, s, i);
+}
+
+Eigen::Vector3d StaticNodeForce_N(const MsmModel& m, const MsmState& s, std::int32_t i) {
+  return NodeForce_N<true>(m, s, i);
 }
 
 RestingNodes::RestingNodes(const MsmModel& model, const RestConfig& config)
@@ -36,6 +53,12 @@ RestingNodes::RestingNodes(const MsmModel& model, const RestConfig& config)
 
 bool RestingNodes::Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const {
   return NetNodeForce_N(model, state, node).squaredNorm() > config_.force_N * config_.force_N;
+}
+
+// Damping holds a creeping node in balance while it moves; stopped, it
+// would be pulled on: judged as it will stand, with every velocity zero.
+bool RestingNodes::UnbalancedAtRest(const MsmModel& model, const MsmState& state, std::int32_t node) const {
+  return StaticNodeForce_N(model, state, node).squaredNorm() > config_.force_N * config_.force_N;
 }
 
 // The node, its springs and their far ends join the current region.
@@ -128,7 +151,7 @@ void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
   // Quiet long enough and nothing pulls it: it rests (and leaves the region).
   for (const std::int32_t i : region_.active_nodes) {
     const auto n = static_cast<std::size_t>(i);
-    if (quiet_steps_[n] < config_.quiet_steps || Unbalanced(model, state, i)) continue;
+    if (quiet_steps_[n] < config_.quiet_steps || UnbalancedAtRest(model, state, i)) continue;
     awake_[n] = 0;
     quiet_steps_[n] = 0;
     --awake_count_;

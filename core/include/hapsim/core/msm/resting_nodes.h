@@ -2,20 +2,24 @@
 // nodes near the collision are updated) grown to wherever the tissue moves.
 // A node rests — is left out of the step, its velocity zero — once its speed
 // has stayed under `speed_m_per_s` for `quiet_steps` steps in a row and the
-// net force on it is under `force_N` (checked every kRestCheckSteps). A resting node wakes when the net
-// force on it exceeds `force_N` (an awake neighbour moved and pulls it) or
-// when the scene wakes it (the tool loads it, a cut changed its springs).
+// force on it standing still is under `force_N` (checked every
+// kRestCheckSteps; judged at zero velocity so that damping cannot hide a
+// creep). A resting node wakes when the net force on it exceeds `force_N`
+// (an awake neighbour moved and pulls it) or when the scene wakes it (the
+// tool loads it, a cut changed its springs).
 //
-// Error bound: a resting node's net force is below force_N whenever it is
-// checked — at rest, after every step in which a spring neighbour was awake,
-// and over the whole mesh after a topology edit — and nothing else changes
-// it. It is therefore within force_N / k of the position where the full step
-// would hold it (k: the stiffness holding it in place), plus what the
-// quiet speed lets it drift before it rests. The cutting scene measures the
-// whole-mesh effect against the full step (docs/validation.md).
+// Error estimate: a resting node's force is below force_N whenever it is
+// checked — when it rests, after every step in which a spring neighbour was
+// awake, and, near the edit, after a topology edit — and nothing else
+// changes it. What holds a patch of resting nodes against a small common
+// pull is its weakest support (in the cutting skin: the anchors), so it is
+// about force_N / k_support from where the full step would hold it. The
+// cutting scene measures the whole-mesh effect against the full step
+// (tests/core/cutting_resting_test.cpp, docs/validation.md).
 //
-// Deterministic: lists are built in ascending node order, the same on every
-// machine. Never allocates after construction.
+// Deterministic: the region's lists grow in the order nodes wake and are
+// rebuilt in ascending node order, the same on every machine. Never
+// allocates after construction.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -39,6 +43,9 @@ struct RestConfig {
 // gravity, absolute damping and anchors — the terms of msm_kernels.h's
 // spring pass and NodeTerms, in one node's terms.
 Eigen::Vector3d NetNodeForce_N(const MsmModel& model, const MsmState& state, std::int32_t node);
+// The same with every velocity zero (no damping terms): the force on the
+// node once it and its neighbours stand still.
+Eigen::Vector3d StaticNodeForce_N(const MsmModel& model, const MsmState& state, std::int32_t node);
 
 class RestingNodes {
  public:
@@ -78,6 +85,7 @@ class RestingNodes {
 
  private:
   bool Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const;
+  bool UnbalancedAtRest(const MsmModel& model, const MsmState& state, std::int32_t node) const;
   void AddToRegion(const MsmModel& model, std::int32_t node);
   void RebuildRegion(const MsmModel& model);
 
