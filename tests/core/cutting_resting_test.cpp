@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "cutting_strokes.h"
 #include "hapsim/core/scenes/cutting/cutting_scene.h"
 #include "scene_tick.h"
 
@@ -18,23 +19,8 @@ namespace {
 // along x at 10 mm/s, lift), then 1.5 s with the tool gone while the wound
 // settles.
 std::vector<ToolInput> StrokeThenLetGo(double depth_m) {
-  std::vector<ToolInput> out;
-  const Eigen::Quaterniond q =
-      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), Eigen::Vector3d(-0.5, 0.0, std::sqrt(0.75)));
-  auto add = [&](Eigen::Vector3d tip, Eigen::Vector3d v) {
-    ToolInput t;
-    t.valid = true;
-    t.tip_W_m = tip;
-    t.orientation_W = q;
-    t.velocity_W_m_per_s = v;
-    out.push_back(t);
-  };
-  constexpr double kSpeed = 0.01, kStep = kSpeed * kTick_s;
-  const double kDepth = depth_m;
-  for (double z = 0.005; z > -kDepth; z -= kStep) add({-0.01, 0.0003, z}, {0, 0, -kSpeed});
-  for (double u = 0.0; u <= 0.02; u += kStep) add({-0.01 + u, 0.0003, -kDepth}, {kSpeed, 0, 0});
-  for (double z = -kDepth; z < 0.005; z += kStep) add({0.01, 0.0003, z}, {0, 0, kSpeed});
-  for (int k = 0; k < 1500; ++k) out.push_back(ToolInput{});
+  std::vector<ToolInput> out = test::ScalpelStroke({-0.01, 0.0003}, 0.0, 0.02, depth_m);
+  out.insert(out.end(), 1500, ToolInput{});
   return out;
 }
 

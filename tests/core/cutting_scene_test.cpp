@@ -4,44 +4,20 @@
 // air, a push when pressing, and depth and drag while cutting; the
 // same stroke gives the same state; strokes off the patch, over an earlier
 // wound and a NaN pose mid-cut are handled; cutting allocates nothing.
-#include <cmath>
-#include <numbers>
+#include "hapsim/core/scenes/cutting/cutting_scene.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+
 #include "allocation_counter.h"
-#include "hapsim/core/scenes/cutting/cutting_scene.h"
+#include "cutting_strokes.h"
 #include "scene_tick.h"
 #include "skin_invariants.h"
 
 namespace hapsim::core {
 namespace {
-
-// A scalpel stroke as the synthetic device's `cut` script draws it: approach
-// from 5 mm above at speed, press to depth, draw `length` along `heading`,
-// lift; the blade leans 30° back against the stroke.
-std::vector<ToolInput> Stroke(Eigen::Vector2d entry, double heading_rad, double length_m, double depth_m = 0.0015,
-                              double speed_m_per_s = 0.01) {
-  std::vector<ToolInput> out;
-  const Eigen::Vector2d d(std::cos(heading_rad), std::sin(heading_rad));
-  const Eigen::Vector3d up(-0.5 * d.x(), -0.5 * d.y(), std::sqrt(0.75));
-  const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up);
-  auto add = [&](Eigen::Vector3d tip, Eigen::Vector3d v) {
-    ToolInput t;
-    t.valid = true;
-    t.tip_W_m = tip;
-    t.orientation_W = q;
-    t.velocity_W_m_per_s = v;
-    out.push_back(t);
-  };
-  const double step = speed_m_per_s * kTick_s;
-  for (double z = 0.005; z > -depth_m; z -= step) add({entry.x(), entry.y(), z}, {0, 0, -speed_m_per_s});
-  for (double u = 0.0; u <= length_m; u += step)
-    add({entry.x() + u * d.x(), entry.y() + u * d.y(), -depth_m}, {speed_m_per_s * d.x(), speed_m_per_s * d.y(), 0});
-  const Eigen::Vector2d end = entry + length_m * d;
-  for (double z = -depth_m; z < 0.005; z += step) add({end.x(), end.y(), z}, {0, 0, speed_m_per_s});
-  return out;
-}
 
 void Drive(Scene& s, const std::vector<ToolInput>& tools) {
   for (const auto& t : tools) s.Step(t, kTick_s);
@@ -74,7 +50,7 @@ TEST(CuttingScene, TheUncutSkinRestsWhereItIsDrawnUnderItsOwnTension) {
 
 TEST(CuttingScene, AStraightStrokeCutsAnIncisionAlongItKeepingTheMeshSound) {
   CuttingScene scene{CuttingParams{}};
-  Drive(scene, Stroke({-0.01, 0.0003}, 0.0, 0.02));
+  Drive(scene, test::ScalpelStroke({-0.01, 0.0003}, 0.0, 0.02));
   EXPECT_EQ(CountEvents(scene, SceneEventKind::kCutStart), 1);
   ASSERT_EQ(CountEvents(scene, SceneEventKind::kCutEnd), 1);
   double length = 0.0;
@@ -100,7 +76,7 @@ double SettledMiddleGape_m(double residual_strain) {
   params.residual_strain = residual_strain;
   params.rest_force_N = 0.0;  // the model's own response (resting skin: cutting_resting_test.cpp)
   CuttingScene scene{params};
-  Drive(scene, Stroke({-0.01, 0.0003}, 0.0, 0.02));
+  Drive(scene, test::ScalpelStroke({-0.01, 0.0003}, 0.0, 0.02));
   const SkinMesh& skin = scene.Skin();
   // The pair of lip nodes nearest the middle (x = 0) with the same rest position.
   std::uint32_t a = kNoSlot, b = kNoSlot;
@@ -133,7 +109,7 @@ TEST(CuttingScene, ResidualStressOpensTheWoundInProportionToTheStrainReleased) {
 
 TEST(CuttingScene, TheDeviceFeelsNothingInAirAPushWhenPressingAndDepthAndDragWhileCutting) {
   CuttingScene scene{CuttingParams{}};
-  const auto stroke = Stroke({-0.01, 0.0003}, 0.0, 0.02);
+  const auto stroke = test::ScalpelStroke({-0.01, 0.0003}, 0.0, 0.02);
   const double k = scene.Params().contact_stiffness_N_per_m;
   bool saw_free = false, saw_contact = false;
   int cutting_ticks = 0;
@@ -176,7 +152,7 @@ TEST(CuttingScene, TheDeviceFeelsNothingInAirAPushWhenPressingAndDepthAndDragWhi
 
 TEST(CuttingScene, TheSameStrokeGivesTheSameStateHash) {
   CuttingScene a{CuttingParams{}}, b{CuttingParams{}};
-  const auto stroke = Stroke({-0.012, -0.0021}, 0.4, 0.018);
+  const auto stroke = test::ScalpelStroke({-0.012, -0.0021}, 0.4, 0.018);
   Drive(a, stroke);
   Drive(b, stroke);
   EXPECT_EQ(a.StateHash(), b.StateHash());
@@ -191,7 +167,7 @@ TEST(CuttingScene, TheSameStrokeGivesTheSameStateHash) {
 // and restored into a new scene: it cuts on exactly as the scene would
 // have, topology and all (a plain copy would find no room for new nodes).
 TEST(CuttingScene, AStateSavedMidIncisionAndRestoredCutsOnAsTheSceneWould) {
-  const auto stroke = Stroke({-0.012, -0.0021}, 0.4, 0.018);
+  const auto stroke = test::ScalpelStroke({-0.012, -0.0021}, 0.4, 0.018);
   const auto half = stroke.begin() + static_cast<std::ptrdiff_t>(stroke.size() / 2);
   const std::vector<ToolInput> first(stroke.begin(), half), rest(half, stroke.end());
   CuttingScene reference{CuttingParams{}};
@@ -214,10 +190,10 @@ TEST(CuttingScene, AStateSavedMidIncisionAndRestoredCutsOnAsTheSceneWould) {
 
 TEST(CuttingScene, StrokesOffThePatchOverAWoundAndANanPoseBreakNothing) {
   CuttingScene scene{CuttingParams{}};
-  Drive(scene, Stroke({0.02, 0.0}, 0.0, 0.02));            // runs off the patch's +x border
-  Drive(scene, Stroke({-0.01, -0.008}, std::numbers::pi / 2, 0.016));  // a second incision
-  Drive(scene, Stroke({-0.016, -0.002}, 0.1, 0.02));        // crossing the second
-  auto with_nan = Stroke({-0.01, 0.01}, 0.0, 0.01);
+  Drive(scene, test::ScalpelStroke({0.02, 0.0}, 0.0, 0.02));                        // runs off the patch's +x border
+  Drive(scene, test::ScalpelStroke({-0.01, -0.008}, std::numbers::pi / 2, 0.016));  // a second incision
+  Drive(scene, test::ScalpelStroke({-0.016, -0.002}, 0.1, 0.02));                   // crossing the second
+  auto with_nan = test::ScalpelStroke({-0.01, 0.01}, 0.0, 0.01);
   with_nan[with_nan.size() / 2].tip_W_m.x() = std::nan("");  // mid-cut
   Drive(scene, with_nan);
   EXPECT_GE(CountEvents(scene, SceneEventKind::kCutEnd), 4);
@@ -228,7 +204,7 @@ TEST(CuttingScene, StrokesOffThePatchOverAWoundAndANanPoseBreakNothing) {
 
 TEST(CuttingScene, CuttingAllocatesNothing) {
   CuttingScene scene{CuttingParams{}};
-  const auto stroke = Stroke({-0.01, 0.0003}, 0.3, 0.02);
+  const auto stroke = test::ScalpelStroke({-0.01, 0.0003}, 0.3, 0.02);
   std::uint64_t allocations = 0;
   {
     hapsim::test::ScopedAllocationCount counting;

@@ -9,7 +9,7 @@ namespace hapsim::core {
 namespace {
 
 std::int32_t* Adjacency(MsmModel& m, std::int32_t node) {
-  return &m.node_springs[static_cast<std::size_t>(node) * static_cast<std::size_t>(m.max_degree)];
+  return m.node_springs.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(m.max_degree);
 }
 
 // Replaces spring `from` by `to` in node's list; `to` == kNoSpring removes

@@ -93,7 +93,10 @@ struct MsmModel {
   Eigen::Matrix3Xd anchor_kp_sum_N;           // sum of k_a p_a at i [N] (3 x n)
 
   std::int32_t NumSprings() const { return static_cast<std::int32_t>(spring_i.size()); }
-  const std::int32_t* SpringsOf(std::int32_t node) const { return &node_springs[static_cast<std::size_t>(node) * static_cast<std::size_t>(max_degree)]; }
+  // data() + offset: a model without springs has an empty list (no element to index).
+  const std::int32_t* SpringsOf(std::int32_t node) const {
+    return node_springs.data() + static_cast<std::size_t>(node) * static_cast<std::size_t>(max_degree);
+  }
   std::int32_t DegreeOf(std::int32_t node) const { return node_degree[static_cast<std::size_t>(node)]; }
   std::int32_t NumAnchors() const { return static_cast<std::int32_t>(anchor_node.size()); }
 };
