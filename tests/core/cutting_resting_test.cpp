@@ -125,8 +125,9 @@ TEST(CuttingResting, SkinNothingDisturbsIsNeverIntegrated) {
   const CuttingScene fresh{CuttingParams{}};
   const MsmModel& m = fresh.Skin().model;
   for (Eigen::Index i = 0; i < m.num_nodes; ++i)
-    if (m.node_live[static_cast<std::size_t>(i)] && !m.fixed[static_cast<std::size_t>(i)])
+    if (m.node_live[static_cast<std::size_t>(i)] && !m.fixed[static_cast<std::size_t>(i)]) {
       ASSERT_EQ(scene.Skin().state.x_m.col(i), fresh.Skin().state.x_m.col(i)) << "node " << i;
+    }
 }
 
 TEST(CuttingResting, APressWakesTheSkinAroundTheTipAndItRestsAgainAfterwards) {

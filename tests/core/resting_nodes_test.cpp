@@ -64,7 +64,9 @@ TEST(RestingNodes, APullWakesTheTissueItMovesAndItAllRestsAgainWhenLetGo) {
   // Every node that moved was integrated (a resting node never moves), and
   // the pull reached past the centre's own neighbours; the fixed rim never.
   for (std::int32_t i = 0; i < model.num_nodes; ++i)
-    if (state.x_m.col(i) != model.x0_m.col(i)) EXPECT_TRUE(ever_awake[static_cast<std::size_t>(i)]) << i;
+    if (state.x_m.col(i) != model.x0_m.col(i)) {
+      EXPECT_TRUE(ever_awake[static_cast<std::size_t>(i)]) << i;
+    }
   EXPECT_TRUE(ever_awake[kCentre + 2] && ever_awake[kCentre + 2 * kGrid]);
   EXPECT_FALSE(ever_awake[0]);
   // Let go: the patch swings back and settles, and then nothing is integrated.

@@ -49,7 +49,9 @@ RestingNodes::RestingNodes(const MsmModel& model, const RestConfig& config)
       quiet_steps_(static_cast<std::size_t>(model.num_nodes), 0),
       region_(MakeLocalRegion(model)),
       spring_in_region_(static_cast<std::size_t>(model.spring_capacity), 0),
-      node_touched_(static_cast<std::size_t>(model.num_nodes), 0) {}
+      node_touched_(static_cast<std::size_t>(model.num_nodes), 0) {
+  just_rested_.reserve(static_cast<std::size_t>(model.num_nodes));
+}
 
 bool RestingNodes::Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const {
   return NetNodeForce_N(model, state, node).squaredNorm() > config_.force_N * config_.force_N;
@@ -102,6 +104,7 @@ void RestingNodes::Wake(const MsmModel& model, std::int32_t node) {
 }
 
 void RestingNodes::RestAll() {
+  just_rested_.clear();
   std::fill(awake_.begin(), awake_.end(), 0);
   std::fill(quiet_steps_.begin(), quiet_steps_.end(), 0);
   awake_count_ = 0;
@@ -118,6 +121,11 @@ void RestingNodes::AfterTopologyEdit(const MsmModel& model, const MsmState& stat
   region_.springs.clear();
   region_.touched_nodes.clear();
   region_stale_ = true;
+  WakeUnbalancedIn(model, state, box);
+}
+
+void RestingNodes::WakeUnbalancedIn(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box) {
+  if (box.isEmpty()) return;
   for (std::int32_t i = 0; i < model.num_nodes; ++i) {
     const auto n = static_cast<std::size_t>(i);
     if (!awake_[n] && model.node_live[n] && !model.fixed[n] && box.contains(model.x0_m.col(i)) &&
@@ -132,6 +140,7 @@ const LocalRegion& RestingNodes::Region(const MsmModel& model) {
 }
 
 void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
+  just_rested_.clear();
   const double speed2 = config_.speed_m_per_s * config_.speed_m_per_s;
   for (const std::int32_t i : region_.active_nodes) {
     const auto n = static_cast<std::size_t>(i);
@@ -157,6 +166,7 @@ void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
     --awake_count_;
     state.v_m_per_s.col(i).setZero();
     region_stale_ = true;
+    just_rested_.push_back(i);
   }
 }
 

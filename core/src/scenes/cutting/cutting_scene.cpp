@@ -182,12 +182,18 @@ StepReport CuttingScene::StepSkin(double h_s) {
   if (rest_checked_version_ != skin_.topology.Version()) {
     resting_.AfterTopologyEdit(skin_.model, skin_.state, cut_box_);
     rest_checked_version_ = skin_.topology.Version();
+    recut_box_.extend(cut_box_);
     cut_box_.setEmpty();
   }
   for (const std::uint32_t v : loaded_nodes_) resting_.Wake(skin_.model, static_cast<std::int32_t>(v));
   const StepReport r =
       StepMsmLocal(skin_.model, skin_.state, h_s, kIntegrator, workspace_, resting_.Region(skin_.model));
   resting_.Settle(skin_.model, skin_.state);
+  for (const std::int32_t i : resting_.JustRested()) {  // where they stand from now on
+    HoldNode(i);
+    resting_shift_bound_m_ =
+        std::max(resting_shift_bound_m_, (skin_.state.x_m.col(i) - skin_.model.x0_m.col(i)).norm());
+  }
   return r;
 }
 
@@ -200,21 +206,47 @@ std::int32_t CuttingScene::AwakeNodes() const {
 
 // The tissue underneath holds every node at its rest height (contact adds
 // to it); in the plane, the skin's own tension balanced where it lies (hold_N).
-// One pass over the node columns (Eigen's row blocks of the 3 x n arrays
-// stride through memory: measured 4x slower).
+// With resting skin only the step's region is refreshed: a resting node's
+// hold changes only with its own position, refreshed when it came to rest,
+// or with a cut, after which every node is (and the cut's box judged again).
 void CuttingScene::HoldSkinOnTissue() {
-  MsmState& st = skin_.state;
-  const double k = params_.support_stiffness_N_per_m;
-  double* __restrict f = st.f_ext_N.data();
-  const double* __restrict hold = skin_.hold_N.data();
-  const double* __restrict x = st.x_m.data();
-  const double* __restrict x0 = skin_.model.x0_m.data();
-  const Eigen::Index n = st.f_ext_N.cols();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    f[3 * i] = hold[3 * i];
-    f[3 * i + 1] = hold[3 * i + 1];
-    f[3 * i + 2] = -k * (x[3 * i + 2] - x0[3 * i + 2]);
+  const bool resting = params_.rest_force_N > 0.0;
+  if (resting && hold_version_ == skin_.topology.Version()) {
+    for (const std::int32_t i : resting_.Region(skin_.model).touched_nodes) HoldNode(i);
+    return;
   }
+  const Eigen::Index n = skin_.state.f_ext_N.cols();
+  for (Eigen::Index i = 0; i < n; ++i) HoldNode(i);
+  hold_version_ = skin_.topology.Version();
+  if (!resting) return;
+  resting_.WakeUnbalancedIn(skin_.model, skin_.state, recut_box_);
+  recut_box_.setEmpty();
+  resting_shift_bound_m_ = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!resting_.Awake(static_cast<std::int32_t>(i)) && skin_.model.node_live[static_cast<std::size_t>(i)])
+      resting_shift_bound_m_ =
+          std::max(resting_shift_bound_m_, (skin_.state.x_m.col(i) - skin_.model.x0_m.col(i)).norm());
+}
+
+void CuttingScene::HoldNode(Eigen::Index i) {
+  MsmState& st = skin_.state;
+  st.f_ext_N(0, i) = skin_.hold_N(0, i);
+  st.f_ext_N(1, i) = skin_.hold_N(1, i);
+  st.f_ext_N(2, i) = -params_.support_stiffness_N_per_m * (st.x_m(2, i) - skin_.model.x0_m(2, i));
+}
+
+// The broad phase's query margin: the largest node displacement from rest —
+// with resting skin, over the awake nodes and the resting ones' bound.
+double CuttingScene::LargestShiftFromRest_m() {
+  const MsmState& st = skin_.state;
+  if (params_.rest_force_N <= 0.0) {
+    const Eigen::Index used = std::min<Eigen::Index>(st.x_m.cols(), skin_.topology.Vertices().HighWater());
+    return MaxDisplacement_m(st.x_m, skin_.model.x0_m, skin_.model.node_live, used);
+  }
+  double max2 = resting_shift_bound_m_ * resting_shift_bound_m_;
+  for (const std::int32_t i : resting_.Region(skin_.model).active_nodes)  // the awake nodes
+    max2 = std::max(max2, (st.x_m.col(i) - skin_.model.x0_m.col(i)).squaredNorm());
+  return std::sqrt(max2);
 }
 
 // No contact yet this step: nothing loaded or colliding, no force on the tool.
@@ -234,9 +266,7 @@ void CuttingScene::FindNodesInBlade(const Cylinder& blade) {
     rest_grid_.Build(skin_.model.x0_m, skin_.model.node_live);
     rest_grid_version_ = skin_.topology.Version();
   }
-  const Eigen::Index used = std::min<Eigen::Index>(st.x_m.cols(), skin_.topology.Vertices().HighWater());
-  CollideWithShiftedGrid(blade, st.x_m, rest_grid_,
-                         MaxDisplacement_m(st.x_m, skin_.model.x0_m, skin_.model.node_live, used), colliding_);
+  CollideWithShiftedGrid(blade, st.x_m, rest_grid_, LargestShiftFromRest_m(), colliding_);
 }
 
 // Where the blade crosses the skin plane, if it does (tip below, blade not
@@ -469,6 +499,8 @@ void CuttingScene::Reset() {
   resting_.RestAll();  // the initial state is at rest
   rest_checked_version_ = skin_.topology.Version();
   cut_box_.setEmpty();
+  recut_box_.setEmpty();
+  hold_version_ = ~std::uint64_t{0};  // the next step holds every node again
   FinishReset();
 }
 
@@ -506,6 +538,7 @@ std::uint64_t CuttingScene::StateHash() const {
     h.AddBytes(resting_.AwakeFlags().data(), slots)
         .AddBytes(resting_.QuietSteps().data(), slots * sizeof(std::int32_t));
     h.Add(resting_.StepsSinceRestCheck());
+    for (int a = 0; a < 3; ++a) h.Add(recut_box_.min()[a]).Add(recut_box_.max()[a]);
   }
   for (int k = 0; k < curve_.Segments(); ++k)
     for (const auto& p : curve_.Controls(k)) h.Add(p.x()).Add(p.y());

@@ -64,6 +64,10 @@ class RestingNodes {
   // force exceeds force_N wakes — the box must hold every node the edit
   // touched.
   void AfterTopologyEdit(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box);
+  // Every free live resting node inside `box` whose net force exceeds
+  // force_N wakes (e.g. again once forces that changed with the edit are
+  // refreshed).
+  void WakeUnbalancedIn(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box);
 
   // The step's region: the awake free nodes. Woken nodes join it at once
   // (O(degree) each); nodes that rest leave it at the next rebuild.
@@ -73,6 +77,9 @@ class RestingNodes {
   void Settle(const MsmModel& model, MsmState& state);
 
   std::int32_t AwakeCount() const { return awake_count_; }
+  // The nodes the last Settle() let rest: their last positions are where
+  // they stand from now on.
+  const std::vector<std::int32_t>& JustRested() const { return just_rested_; }
   bool Awake(std::int32_t node) const { return awake_[static_cast<std::size_t>(node)] != 0; }
   // For the scene's state hash: what decides the next steps besides x and v.
   const std::vector<std::uint8_t>& AwakeFlags() const { return awake_; }
@@ -92,6 +99,7 @@ class RestingNodes {
   RestConfig config_;
   std::vector<std::uint8_t> awake_;        // (n)
   std::vector<std::int32_t> quiet_steps_;  // (n) consecutive quiet steps of an awake node
+  std::vector<std::int32_t> just_rested_;  // reserved (n)
   std::int32_t awake_count_ = 0;
   std::int32_t steps_since_rest_check_ = 0;
   // The region and its membership marks; stale = rebuilt at the next Region().

@@ -85,6 +85,8 @@ class CuttingScene final : public SceneWithOutputs {
   void StepOnce(const ToolInput& tool, double h_s);
   // StepOnce's steps before the cut and the contact, in order.
   void HoldSkinOnTissue();
+  void HoldNode(Eigen::Index node);
+  double LargestShiftFromRest_m();
   void ClearStepContact();
   void FindNodesInBlade(const Cylinder& blade);
   void UpdateCut(const ToolInput& tool, const Cylinder& blade);
@@ -111,6 +113,11 @@ class CuttingScene final : public SceneWithOutputs {
   RestingNodes resting_;
   std::uint64_t rest_checked_version_ = ~std::uint64_t{0};
   Eigen::AlignedBox3d cut_box_;  // rest positions the cuts since the last step may have unbalanced (empty: none)
+  // The last edit's box, judged again once the hold is refreshed (the next step's full hold pass).
+  Eigen::AlignedBox3d recut_box_;
+  std::uint64_t hold_version_ = ~std::uint64_t{0};  // topology version of the last hold of every node
+  // Upper bound of the resting nodes' displacement from rest (exact at each full hold pass).
+  double resting_shift_bound_m_ = 0.0;
   SkinCutter cutter_;
   CutConfig cut_config_;
   IncisionCurve curve_;
