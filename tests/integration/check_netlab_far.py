@@ -5,7 +5,7 @@ import os
 import re
 import sys
 
-from checks import check, finish, note_servo_stalls, read_text
+from checks import check, finish, read_text
 
 work = sys.argv[1]
 
@@ -15,7 +15,6 @@ for name in ("far", "viewer"):
 # The far bridge: 50 ms each way. Its physics age is the round trip (plus the
 # gap since the model arrived, under 1 ms at 1 kHz, and the emulator's ~0.1 ms).
 out = read_text(work, "far.out")
-note_servo_stalls(out, "the far bridge")
 rtt = float(re.search(r"round trip p50 ([\d.]+)", out).group(1))
 age50, age99 = map(float, re.search(r"physics age p50 ([\d.]+) / p99 ([\d.]+)", out).groups())
 gap99 = float(re.search(r"model age p50 [\d.]+ / p99 ([\d.]+)", out).group(1))

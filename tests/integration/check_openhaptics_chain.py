@@ -5,7 +5,7 @@ import os
 import re
 import sys
 
-from checks import check, finish, note_servo_stalls, read_text
+from checks import check, finish, read_text
 
 work = sys.argv[1]
 
@@ -22,7 +22,6 @@ def magnitude(row):
 
 # 1. Pressing: poses flow at the device scheduler's 1 kHz, forces come back.
 out = read_text(work, "pressed.out")
-note_servo_stalls(out, "the pressing bridge")
 check(not os.path.exists(os.path.join(work, "pressed.rc")), "the pressing run exits 0")
 received = int(re.search(r"force models received (\d+)", out).group(1))
 ticks = int(re.search(r"device scheduler (\d+) ticks", out).group(1))

@@ -1,10 +1,12 @@
 """Shared by the end-to-end check scripts: print each check as ok/FAIL and
 exit non-zero if any failed."""
+import glob
+import os
 import re
 import sys
 
 _failures = []
-_host_stalls = []
+_work_dirs = []  # every directory read_text read from: where the run's outputs are
 
 # Exit code of a run that failed while the host itself was stalled: the test
 # runner (retry_on_host_stall.sh) runs such a test once more.
@@ -17,28 +19,42 @@ def check(ok, what):
         _failures.append(what)
 
 
-def note_servo_stalls(out, who, limit_ms=10.0):
-    """Evidence that the host, not hapsim, took the CPU away: a bridge's own
-    1 kHz servo that did not run for LIMIT_MS (ten periods). Its report line
-    'period jitter p50 a / p99 b / max c ms' gives the longest wait."""
-    found = re.search(r"period jitter p50 [\d.]+ / p99 [\d.]+ / max ([\d.]+) ms", out)
-    if found and float(found.group(1)) > limit_ms:
-        what = f"{who}'s servo waited {found.group(1)} ms (> {limit_ms} ms) for the CPU"
-        print("host stall: " + what)
-        _host_stalls.append(what)
+def _servo_stalls(limit_ms=10.0):
+    """Evidence that the host, not hapsim, took the CPU away during the run: a
+    bridge's or hapsim-load's own 1 kHz servo that waited more than LIMIT_MS
+    (ten periods), from their reports ('period jitter p50 a / p99 b / max c
+    ms', 'servo thread: ... lateness p50 a / p99 b / max c ms') in the run's
+    outputs (every *.out and *.log under the directories read_text read)."""
+    pattern = re.compile(r"(?:period jitter|lateness) p50 [\d.]+ / p99 [\d.]+ / max ([\d.]+) ms")
+    stalls = []
+    for work in _work_dirs:
+        for path in sorted(glob.glob(os.path.join(work, "**", "*.out"), recursive=True) +
+                           glob.glob(os.path.join(work, "**", "*.log"), recursive=True)):
+            try:
+                with open(path, errors="replace") as f:
+                    text = f.read(4 << 20)
+            except OSError:
+                continue
+            waits = [float(m) for m in pattern.findall(text)]
+            if waits and max(waits) > limit_ms:
+                stalls.append(f"{os.path.relpath(path, work)}: a servo waited {max(waits)} ms (> {limit_ms} ms)")
+    return stalls
 
 
 def finish():
     print(f"{len(_failures)} failed")
-    if _failures and _host_stalls:
+    stalls = _servo_stalls() if _failures else []
+    if stalls:
         # Timing checks measured the host's stall, not the code: say so and
         # let the runner try once more (a second failure fails the test).
-        print(f"failed on a stalled host ({'; '.join(_host_stalls)}): exit {HOST_STALLED_EXIT}")
+        print(f"failed on a stalled host ({'; '.join(stalls)}): exit {HOST_STALLED_EXIT}")
         sys.exit(HOST_STALLED_EXIT)
     sys.exit(1 if _failures else 0)
 
 
 def read_text(work, name):
+    if work not in _work_dirs:
+        _work_dirs.append(work)
     return open(f"{work}/{name}").read()
 
 

@@ -132,4 +132,4 @@ grep -q 'gaps 0, topology mismatches 0, malformed 0' fa_viewer4.out || fail "fa'
 [ "$(grep -c '^v ' fa_viewer4.obj)" -eq "$(grep -c '^v ' server_fa4.obj)" ] &&
   [ "$(grep -c '^f ' fa_viewer4.obj)" -eq "$(grep -c '^f ' server_fa4.obj)" ] || fail "fa's viewer mesh after the restart differs"
 echo "$failures failed"
-[ "$failures" -eq 0 ]
+finish_checks "$failures"
