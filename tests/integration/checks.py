@@ -71,3 +71,16 @@ def ctl_sessions(work, listing):
         if fields:
             table[fields[0]] = dict(f.split("=", 1) for f in fields[1:] if "=" in f)
     return table
+
+
+if __name__ == "__main__":
+    # `checks.py stalled WORK_DIR`: lib.sh's finish_checks asks whether a
+    # failed bash-checked run was on a stalled host (exit 75) or not (exit 1).
+    if len(sys.argv) == 3 and sys.argv[1] == "stalled":
+        _work_dirs.append(sys.argv[2])
+        stalls = _servo_stalls()
+        if stalls:
+            print(f"failed on a stalled host ({'; '.join(stalls)}): exit {HOST_STALLED_EXIT}")
+            sys.exit(HOST_STALLED_EXIT)
+        sys.exit(1)
+    sys.exit("usage: checks.py stalled WORK_DIR")

@@ -83,12 +83,18 @@ void RestingNodes::AddToRegion(const MsmModel& m, std::int32_t node) {
   }
 }
 
-void RestingNodes::RebuildRegion(const MsmModel& m) {
+// Empties the region's lists (and, by them, its marks) and marks it stale.
+void RestingNodes::ClearRegion() {
   for (const std::int32_t s : region_.springs) spring_in_region_[static_cast<std::size_t>(s)] = 0;
   for (const std::int32_t i : region_.touched_nodes) node_touched_[static_cast<std::size_t>(i)] = 0;
   region_.active_nodes.clear();
   region_.springs.clear();
   region_.touched_nodes.clear();
+  region_stale_ = true;
+}
+
+void RestingNodes::RebuildRegion(const MsmModel& m) {
+  ClearRegion();
   for (std::int32_t i = 0; i < m.num_nodes; ++i)
     if (awake_[static_cast<std::size_t>(i)]) AddToRegion(m, i);
   region_stale_ = false;
@@ -113,14 +119,11 @@ void RestingNodes::RestAll() {
 }
 
 void RestingNodes::AfterTopologyEdit(const MsmModel& model, const MsmState& state, const Eigen::AlignedBox3d& box) {
-  // Spring indices moved: the marks are cleared over the whole capacity,
-  // the region rebuilt from the awake flags.
+  // Spring indices moved, so the region's spring list names other springs
+  // now: every spring mark is cleared, then the lists by themselves.
   std::fill(spring_in_region_.begin(), spring_in_region_.end(), 0);
-  std::fill(node_touched_.begin(), node_touched_.end(), 0);
-  region_.active_nodes.clear();
   region_.springs.clear();
-  region_.touched_nodes.clear();
-  region_stale_ = true;
+  ClearRegion();
   WakeUnbalancedIn(model, state, box);
 }
 

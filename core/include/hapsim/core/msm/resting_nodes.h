@@ -73,7 +73,7 @@ class RestingNodes {
   // (O(degree) each); nodes that rest leave it at the next rebuild.
   const LocalRegion& Region(const MsmModel& model);
   // After the step on Region(): resting neighbours the step pulled wake;
-  // every rest_check_steps, nodes quiet for quiet_steps and balanced rest.
+  // every kRestCheckSteps, nodes quiet for quiet_steps and balanced rest.
   void Settle(const MsmModel& model, MsmState& state);
 
   std::int32_t AwakeCount() const { return awake_count_; }
@@ -94,6 +94,7 @@ class RestingNodes {
   bool Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const;
   bool UnbalancedAtRest(const MsmModel& model, const MsmState& state, std::int32_t node) const;
   void AddToRegion(const MsmModel& model, std::int32_t node);
+  void ClearRegion();
   void RebuildRegion(const MsmModel& model);
 
   RestConfig config_;
