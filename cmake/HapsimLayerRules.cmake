@@ -24,7 +24,11 @@
 #                     no DDS
 #   hapsim::api       the six above, proto, gRPC, prometheus-cpp's core
 #                     (/metrics) — never the DDS wire types
-#   hapsim::app       api: the server process
+#   hapsim::web       classroom, proto, gRPC, Boost.Beast, OpenSSL: the browser
+#                     console's HTTPS/WebSocket, a gateway to the services
+#                     over an in-process channel — no runtime internals,
+#                     no DDS, never the services' code itself
+#   hapsim::app       api, web: the server process
 #   the device side, in layers (device-bridge/):
 #   hapsim::servo     core (force-model law), common: devices, the servo
 #                     tick, force safety — core types only, no DDS
@@ -43,7 +47,7 @@
 include(HapsimLayers)
 
 set(_net "grpc|grpcpp|dds/|ddsc|asio|spdlog|google/protobuf|boost/asio|haptics\\.h")
-set(_server_layers "runtime|device_link|streaming|classroom|api|app")
+set(_server_layers "runtime|device_link|streaming|classroom|api|web|app")
 set(_device_side "servo|bridge|load")
 set(_std_os "(thread|mutex|shared_mutex|condition_variable|future|semaphore|stop_token|latch|barrier|chrono|ctime|fstream|iostream|istream|ostream|cstdio|stdio\\.h|filesystem)>")
 
@@ -76,6 +80,8 @@ if(NOT HAPSIM_CORE_ONLY)
     PATTERN "grpc|grpcpp|google/protobuf|dds/|ddsc|haptics\\.h|asio|zstd|prometheus|hapsim/(io|dds|wire|device_link|streaming|recording|api|app|${_device_side}|viewer|v1)/")
   hapsim_forbid_includes(hapsim::api TARGET hapsim_api DIRS ${PROJECT_SOURCE_DIR}/server/api
     PATTERN "haptics\\.h|toml|openssl|hapsim/(io|wire|app|${_device_side}|viewer)/")
+  hapsim_forbid_includes(hapsim::web TARGET hapsim_web DIRS ${PROJECT_SOURCE_DIR}/server/web
+    PATTERN "dds/|ddsc|haptics\\.h|toml|sqlite|zstd|prometheus|[<]asio/|hapsim/(core|io|dds|wire|device_link|streaming|recording|store|api|app|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::app TARGET hapsim_app DIRS ${PROJECT_SOURCE_DIR}/server/app
     PATTERN "haptics\\.h|hapsim/(io|wire|${_device_side}|viewer)/")
   hapsim_forbid_includes(hapsim::servo TARGET hapsim_servo
@@ -129,13 +135,15 @@ hapsim_layer_allows(hapsim_classroom ${_classroom})
 hapsim_layer_allows(hapsim_recording ${_recording})
 hapsim_layer_allows(hapsim_store ${_store})
 hapsim_layer_allows(hapsim_api ${_api})
-hapsim_layer_allows(hapsim_app hapsim_app ${_api})
+set(_web hapsim_web ${_classroom} ${_proto} Boost::headers)
+hapsim_layer_allows(hapsim_web ${_web})
+hapsim_layer_allows(hapsim_app hapsim_app ${_api} ${_web})
 hapsim_layer_allows(hapsim_servo ${_servo})
 hapsim_layer_allows(hapsim_bridge ${_bridge})
 hapsim_layer_allows(hapsim_load ${_load})
 hapsim_layer_allows(hapsim_viewer ${_viewer})
 hapsim_layer_allows(hapsim_viewer_export ${_viewer_export})
-hapsim_layer_allows(hapsim-server hapsim_app ${_api})
+hapsim_layer_allows(hapsim-server hapsim_app ${_api} ${_web})
 hapsim_layer_allows(hapsim-bridge ${_bridge} ${_viewer})
 hapsim_layer_allows(hapsim-load ${_load} ${_viewer})
 if(HAPSIM_WITH_VIEWER_GUI)

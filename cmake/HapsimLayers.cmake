@@ -19,7 +19,7 @@
 set(HAPSIM_LAYER_CHECK_SCRIPT ${CMAKE_CURRENT_LIST_DIR}/CheckIncludes.cmake)
 set(HAPSIM_LAYER_EXTERNALS Eigen3::Eigen spdlog::spdlog CycloneDDS::ddsc protobuf::libprotobuf
     gRPC::grpc gRPC::grpc++ gRPC::grpc++_reflection prometheus-cpp::core nlohmann_json::nlohmann_json
-    zstd::libzstd_shared SQLite::SQLite3)
+    zstd::libzstd_shared SQLite::SQLite3 Boost::headers)
 
 function(hapsim_forbid_includes layer)
   cmake_parse_arguments(ARG "" "PATTERN;TARGET" "DIRS;ALLOW" ${ARGN})

@@ -89,6 +89,18 @@ std::string HostName() {
   return name;
 }
 
+// The web app next to this program: PREFIX/share/hapsim/web for
+// PREFIX/bin/hapsim-server, installed or in the build tree (build/bin, build/share).
+std::string DefaultWebRoot() {
+  char exe[4096] = {};
+  const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n <= 0) return "/usr/share/hapsim/web";
+  std::string path(exe, static_cast<std::size_t>(n));
+  path.erase(path.rfind('/'));      // .../bin
+  path.erase(path.rfind('/') + 1);  // .../
+  return path + "share/hapsim/web";
+}
+
 // Flags that ServerOptions holds in other units, or that only main uses.
 struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config, data_dir, record = "class";
@@ -107,6 +119,10 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("port-file", &f->port_file, "write the bound gRPC port here once listening (for scripts using port 0)");
   flags.Add("metrics-listen", &options->metrics_listen_address,
             "serve Prometheus metrics at http://HOST:PORT/metrics (docs/metrics.md; empty: off)");
+  flags.Add("web-listen", &options->web_listen_address,
+            "serve the browser console at https://HOST:PORT/ (http:// without --tls-cert; docs/classroom.md).\n"
+            "Empty: off");
+  flags.Add("web-root", &options->web_root, "the built web app the console serves (default: the installed one)");
   flags.Add("sessions", &f->sessions, "sessions to create at start: id[:scene],id[:scene],...");
   flags.Add("class-config", &f->class_config,
             "TOML file of classes, their sessions (created at start) and tokens with roles (docs/classroom.md);\n"
@@ -227,6 +243,13 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
   options->quantum_m = f.quantum_mm * 1e-3;
   options->dds.domain_id = static_cast<std::uint32_t>(f.dds_domain);
   options->dds.config_file = f.dds_config;
+  if (!options->web_listen_address.empty() && access((options->web_root + "/index.html").c_str(), R_OK) != 0) {
+    std::fprintf(stderr,
+                 "hapsim-server: no web app in '%s' (no index.html): build it (cmake --build with npm installed)\n"
+                 "or give --web-root\n",
+                 options->web_root.c_str());
+    return false;
+  }
   if (!f.data_dir.empty()) {
     hapsim::service::PersistenceOptions p;
     p.data_dir = f.data_dir;
@@ -315,6 +338,7 @@ int RunServer(const hapsim::service::ServerOptions& options, const ServerFlags& 
 
 int main(int argc, char** argv) {
   hapsim::service::ServerOptions options;
+  options.web_root = DefaultWebRoot();
   ServerFlags f;
   hapsim::common::Flags flags(
       "hapsim-server",

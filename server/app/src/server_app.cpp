@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "hapsim/common/flags.h"
 #include "hapsim/common/thread_setup.h"
 #include "hapsim/dds/io_thread.h"
 
@@ -91,6 +92,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   AssembleParts(o);
   StartGrpc(o, credentials);
   if (!o.metrics_listen_address.empty()) StartMetrics(o.metrics_listen_address);
+  if (!o.web_listen_address.empty()) StartWebConsole(o);
   dds_->Start(registry_.get(), pool_.get());
   if (o.rt_priority > 0) RaiseTheTickPath(o.rt_priority);
   if (persistence_) BringBack();
@@ -148,6 +150,32 @@ void ServerApp::StartMetrics(const std::string& listen_address) {
   spdlog::info("metrics at http://{}/metrics (port {})", listen_address, metrics_->bound_port());
 }
 
+void ServerApp::StartWebConsole(const ServerOptions& o) {
+  web::WebConsoleOptions w;
+  w.listen_address = o.web_listen_address;
+  w.root_dir = o.web_root;
+  w.tls_cert_file = o.tls_cert_file;
+  w.tls_key_file = o.tls_key_file;
+  w.tls_client_ca_file = o.tls_client_ca_file;
+  w.server_version = common::VersionLine("hapsim-server");
+  if (!w.server_version.empty() && w.server_version.back() == '\n') w.server_version.pop_back();
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(-1);  // keyframes of the largest scenes; the browser's requests are bounded
+  try {
+    web_ = std::make_unique<web::WebConsole>(w, server_->InProcessChannel(args), &policy_);
+  } catch (const std::exception&) {
+    Shutdown();
+    throw;
+  }
+  const bool plain_off_loopback = !web_->tls() && !IsLoopbackAddress(o.web_listen_address);
+  if (plain_off_loopback) {
+    spdlog::warn("web console on {} WITHOUT TLS: tokens cross the network in the clear (give --tls-cert/--tls-key)",
+                 o.web_listen_address);
+  }
+  spdlog::info("web console at {}://{} (port {}), serving {}", web_->tls() ? "https" : "http", o.web_listen_address,
+               web_->bound_port(), o.web_root);
+}
+
 void ServerApp::RaiseTheTickPath(int priority) {
   // The DDS threads (a pose's way in) one above the ticks they wake: routing
   // it is short, and a busy tick must not hold up another session's pose.
@@ -195,6 +223,7 @@ void ServerApp::Shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
   metrics_.reset();  // no scrape reads the registry while it closes
+  if (web_) web_->Stop();    // its calls end before the services they call stop
   session_service_->Stop();  // class views end before the gRPC server waits for its calls
   pump_->Stop();
   // What is recorded so far is written before the sessions close, so their

@@ -24,6 +24,7 @@
 #include "hapsim/runtime/tick_pool.h"
 #include "hapsim/streaming/frame_pump.h"
 #include "hapsim/streaming/viewer_hub.h"
+#include "hapsim/web/web_console.h"
 
 namespace hapsim::service {
 
@@ -47,6 +48,10 @@ struct ServerOptions {
   hapsim::dds::Options dds;
   PoseLimits pose_limits;
   std::string metrics_listen_address;  // host:port for GET /metrics (Prometheus); empty: off
+  // The browser console (HTTPS with the TLS files below, else plain HTTP):
+  // host:port, empty: off; and the directory of the built web app it serves.
+  std::string web_listen_address;
+  std::string web_root;
   // Classes, their sessions (created at start) and tokens; none: development
   // mode (no tokens, anyone who reaches the port may do anything).
   std::optional<ClassConfig> classes;
@@ -79,6 +84,7 @@ class ServerApp {
   Persistence* persistence() { return persistence_.get(); }  // nullptr: no data directory
   int bound_port() const { return bound_port_; }
   int metrics_port() const { return metrics_ ? metrics_->bound_port() : 0; }  // 0: no metrics endpoint
+  int web_port() const { return web_ ? web_->bound_port() : 0; }              // 0: no web console
   // Ends viewer streams, stops gRPC, sessions and DDS. Idempotent.
   void Shutdown();
 
@@ -89,6 +95,7 @@ class ServerApp {
   void AssembleParts(const ServerOptions& options);
   void StartGrpc(const ServerOptions& options, const std::shared_ptr<grpc::ServerCredentials>& credentials);
   void StartMetrics(const std::string& listen_address);
+  void StartWebConsole(const ServerOptions& options);
   void RaiseTheTickPath(int priority);  // --rt-priority
   void BringBack();  // the data directory's trials, scores and sessions
   void CreateClassSessions(const ClassConfig& classes);
@@ -108,6 +115,7 @@ class ServerApp {
   std::unique_ptr<ViewerServiceImpl> viewer_service_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<MetricsEndpoint> metrics_;  // after everything it reads: destroyed first
+  std::unique_ptr<web::WebConsole> web_;      // a client of server_: stopped before it
   int bound_port_ = 0;
   bool shut_down_ = false;
 };

@@ -1,0 +1,147 @@
+// The class console in a real browser (Debian's Chromium, driven by
+// playwright-core), against a running hapsim-server with a class whose
+// trainees hapsim-load drives. tests/integration/web_console.sh starts
+// everything and passes, in the environment:
+//   HAPSIM_WEB_URL        https://127.0.0.1:PORT/
+//   HAPSIM_WEB_SPKI       the server certificate's SPKI hash (Chromium trusts exactly it)
+//   HAPSIM_TOKENS         the class's token folder (instructor, observer, trainee1 ...)
+//   HAPSIM_SESSIONS       the class's session ids, comma-separated
+//   HAPSIM_RESTART        a command that restarts the server on the same ports
+//   HAPSIM_SHOTS          where to save screenshots
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+import { chromium } from "playwright-core";
+
+const url = process.env.HAPSIM_WEB_URL;
+const tokens = process.env.HAPSIM_TOKENS;
+const sessions = process.env.HAPSIM_SESSIONS.split(",");
+const shots = process.env.HAPSIM_SHOTS || ".";
+const token = (who) => readFileSync(join(tokens, `${who}.token`), "utf8").trim();
+let browser;
+
+before(async () => {
+  browser = await chromium.launch({
+    executablePath: process.env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
+    args: [
+      "--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync",
+      `--ignore-certificate-errors-spki-list=${process.env.HAPSIM_WEB_SPKI}`,
+      "--use-angle=swiftshader", "--enable-unsafe-swiftshader",  // WebGL without a GPU
+    ],
+  });
+});
+after(async () => browser && (await browser.close()));
+
+async function login(who, viewport = { width: 1366, height: 768 }) {
+  const page = await browser.newPage({ viewport });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(e.message));
+  page.errors = errors;
+  const response = await page.goto(url);
+  assert.equal(response.status(), 200);
+  assert.ok(page.url().startsWith("https://"), "served over TLS");
+  await page.fill("#token", who === "garbage" ? "garbage-token" : token(who));
+  await page.click("#login button[type=submit]");
+  return page;
+}
+
+const tileTicks = (page, id) =>
+  page.$eval(`.tile[data-session="${id}"]`, (e) => Number(e.dataset.ticks || 0));
+
+test("a garbage token is refused and the page says so", async () => {
+  const page = await login("garbage");
+  await page.waitForFunction(() => document.querySelector("#login-error").textContent.includes("Refused"));
+  assert.match(await page.textContent("#login-error"), /unknown token/);
+  assert.equal(await page.isHidden("#console"), true);
+  await page.close();
+});
+
+test("every trainee's tile appears and updates while the class runs", async () => {
+  const page = await login("instructor");
+  for (const id of sessions) await page.waitForSelector(`.tile[data-session="${id}"]`, { timeout: 10000 });
+  const first = await tileTicks(page, sessions[0]);
+  await page.waitForTimeout(1000);
+  for (const id of sessions) assert.ok((await tileTicks(page, id)) > 0, `${id} ticks`);
+  assert.ok((await tileTicks(page, sessions[0])) > first, "the tiles update");
+  await page.waitForFunction(
+    () => [...document.querySelectorAll(".tile .device")].every((d) => d.dataset.on === "true"),
+    null, { timeout: 10000 });
+  await page.screenshot({ path: join(shots, "console_tiles.png") });
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("opening a trainee draws the tissue, and the needle where the tool pose projects", async () => {
+  const page = await login("instructor");
+  await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  await page.click(`.tile[data-session="${sessions[0]}"]`);
+  // A frame with the tool in it: the device is streaming.
+  await page.waitForFunction(() => window.hapsim.view && window.hapsim.view.projectedTip() !== null, null, { timeout: 10000 });
+  await page.waitForFunction(() => window.hapsim.framesApplied > 30, null, { timeout: 10000 });
+  const canvas = await page.$("#view3d");
+  const box = await canvas.boundingBox();
+  // Sample the canvas and the tip's projection in one go (same frame).
+  const sample = await page.evaluate(() => {
+    const c = document.getElementById("view3d");
+    const tip = window.hapsim.view.projectedTip();
+    const probe = document.createElement("canvas");
+    probe.width = c.clientWidth;
+    probe.height = c.clientHeight;
+    const ctx = probe.getContext("2d");
+    ctx.drawImage(c, 0, 0, probe.width, probe.height);
+    const all = ctx.getImageData(0, 0, probe.width, probe.height).data;
+    const colours = new Set();
+    for (let i = 0; i < all.length; i += 4 * 97) colours.add((all[i] >> 4) * 256 + (all[i + 1] >> 4) * 16 + (all[i + 2] >> 4));
+    // The tool is blue: the pixels just above its tip on screen.
+    let blue = 0;
+    for (let dy = -30; dy <= 2; ++dy) {
+      for (let dx = -4; dx <= 4; ++dx) {
+        const x = Math.round(tip.x + dx), y = Math.round(tip.y + dy);
+        if (x < 0 || y < 0 || x >= probe.width || y >= probe.height) continue;
+        const [r, g, b] = ctx.getImageData(x, y, 1, 1).data;
+        if (b > r + 40 && b > g + 20) ++blue;
+      }
+    }
+    return { colours: colours.size, blue, tip, width: probe.width, height: probe.height };
+  });
+  await page.screenshot({ path: join(shots, "console_trainee.png") });
+  assert.ok(box.width > 300 && box.height > 150, "a usable 3D view on a 1366x768 screen");
+  assert.ok(sample.colours > 8, `the 3D canvas is not blank (${sample.colours} colours)`);
+  assert.ok(sample.tip.x > 0 && sample.tip.x < sample.width && sample.tip.y > 0 && sample.tip.y < sample.height,
+    `the tool tip projects into the view (${JSON.stringify(sample.tip)})`);
+  assert.ok(sample.blue >= 5, `the needle is drawn at its projected tip (${sample.blue} blue pixels)`);
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("an observer's reset is refused in the page and at the server", async () => {
+  const page = await login("observer");
+  await page.waitForSelector(`.tile[data-session="${sessions[1]}"]`);
+  await page.click(`.tile[data-session="${sessions[1]}"]`);
+  assert.equal(await page.isDisabled("#controls button[data-action=reset]"), true, "the page offers no reset");
+  // Past the page: the call itself, as a modified page would send it.
+  const reply = await page.evaluate(() => window.hapsim.control("reset"));
+  assert.equal(reply.code, 7, "PERMISSION_DENIED from the server's access policy");
+  assert.match(await page.textContent("#message"), /reset refused/);
+  await page.close();
+});
+
+test("the page reconnects after a server restart", async () => {
+  const page = await login("instructor");
+  await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  await page.waitForFunction(() => document.querySelector("#link-state").dataset.state === "open");
+  await page.waitForTimeout(500);
+  const ticksBefore = await tileTicks(page, sessions[0]);
+  execFileSync("bash", ["-c", process.env.HAPSIM_RESTART], { stdio: "inherit" });
+  await page.waitForFunction(() => document.querySelector("#link-state").dataset.state !== "open", null, { timeout: 10000 });
+  await page.waitForFunction(() => document.querySelector("#link-state").dataset.state === "open", null, { timeout: 20000 });
+  // The restarted server's sessions start again from tick 0: the tiles follow them.
+  await page.waitForFunction(([id, before]) => {
+    const t = document.querySelector(`.tile[data-session="${id}"]`);
+    return t && Number(t.dataset.ticks) > 0 && Number(t.dataset.ticks) < before;
+  }, [sessions[0], ticksBefore], { timeout: 10000 });
+  await page.close();
+});
