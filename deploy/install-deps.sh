@@ -16,7 +16,11 @@ packages=(
   file      # CPack's DEB generator reads the programs' type before dpkg-shlibdeps (deploy/make-deb.sh)
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
+  libboost-dev  # Boost.Beast: the web console's HTTPS/WebSocket
+  nodejs chromium  # the web console: its bundle is built with Node.js; its tests drive Chromium
 )
+# npm comes with some Node.js builds (NodeSource's) and is Debian's own package otherwise.
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

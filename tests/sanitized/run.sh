@@ -18,6 +18,7 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
 cmake --build "$build" -j "$jobs" --target hapsim-core-tests hapsim-io-tests hapsim-common-tests \
     hapsim-dds-tests hapsim-wire-tests \
     hapsim-runtime-tests hapsim-device-link-tests hapsim-streaming-tests hapsim-classroom-tests hapsim-api-tests \
+    hapsim-web-tests \
     hapsim-servo-tests hapsim-openhaptics-tests hapsim-bridge-tests hapsim-load-tests hapsim-viewer-tests
 # alloc_dealloc_mismatch=0: Debian's libgrpc 1.51 itself allocates with
 # operator new(nothrow) and releases with free() in ChannelInit::Builder::Build
