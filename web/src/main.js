@@ -28,7 +28,11 @@ class ConsolePage {
     this.forceTime = new History(600);
     this.forceDepth = new History(600);
     this.framesApplied = 0;
-    this.lastFrameAt = 0;
+    this.framesDrawn = 0;
+    this.plotsDrawnAt = -1e9;
+    this.newEvents = [];  // events of frames applied since the last drawing
+    this.frameLog = [];   // [drawn at ms, sim time s, drawing ms] of the newest drawings: how far the view lags
+
     this.tiles = new TileBoard($('tiles'), (id) => this.open(id));
     $('login').addEventListener('submit', (e) => {
       e.preventDefault();
@@ -90,6 +94,7 @@ class ConsolePage {
   onEvent(event) {
     if (event.case === 'classStatus') {
       this.tiles.update(event.value);
+      this.connection.statusShown(event.value.seq);
     } else if (event.case === 'frame') {
       this.onFrame(event.value);
     } else if (event.case === 'ended') {
@@ -102,6 +107,8 @@ class ConsolePage {
   open(sessionId) {
     this.openSession = sessionId;
     this.cache = new MeshCache();
+    this.newestFrame = null;
+    this.newEvents = [];
     this.forceTime.clear();
     this.forceDepth.clear();
     $('detail').hidden = false;
@@ -117,6 +124,9 @@ class ConsolePage {
     this.connection.closeView();
   }
 
+  // A frame is applied and acknowledged at once (cheap: a delta is a few
+  // hundred bytes); drawing waits for the next animation frame and shows
+  // the newest state, so a slow tab draws less often but never falls behind.
   onFrame(frame) {
     const received = performance.now();
     const why = this.cache.apply(frame);
@@ -126,10 +136,31 @@ class ConsolePage {
       this.connection.openView(this.openSession);
       return;
     }
-    this.view.update(this.cache, frame.tool, frame.events);
-    const t = frame.simTimeS;
-    this.forceTime.add(t, frame.peakForceN);
+    this.connection.ack(frame.seq, performance.now() - received);
+    this.framesApplied++;
+    this.forceTime.add(frame.simTimeS, frame.peakForceN);
     this.forceDepth.add(frame.tipDepthM * 1e3, frame.peakForceN);
+    this.newestFrame = frame;
+    this.newEvents.push(...frame.events);
+    if (!this.drawPending) {
+      this.drawPending = true;
+      requestAnimationFrame(() => this.draw());
+    }
+  }
+
+  draw() {
+    this.drawPending = false;
+    const frame = this.newestFrame;
+    if (!frame || !this.openSession) return;
+    const start = performance.now();
+    this.view.update(this.cache, frame.tool, this.newEvents);
+    this.newEvents = [];
+    const t = frame.simTimeS;
+    if (start - this.plotsDrawnAt < 100) {  // plots and text at 10 Hz: enough to read, cheap on a slow tab
+      this.logDrawing(start, t);
+      return;
+    }
+    this.plotsDrawnAt = start;
     drawPlot($('plot-time'), this.forceTime.points, {xLabel: 'time [s]', yLabel: 'peak force [N]'});
     drawPlot(
         $('plot-depth'), this.forceDepth.points,
@@ -139,9 +170,13 @@ class ConsolePage {
         `t ${t.toFixed(2)} s · depth ${(frame.tipDepthM * 1e3).toFixed(2)} mm · layer ${layer} · ` +
         `force ${frame.peakForceN.toFixed(3)} N · ${frame.tool ? frame.tool.contactState : 'no tool'}` +
         (frame.paused ? ' · paused' : '');
-    this.framesApplied++;
-    this.lastFrameAt = received;
-    this.connection.ack(frame.seq, performance.now() - received);
+    this.logDrawing(start, t);
+  }
+
+  logDrawing(start, simTimeS) {
+    this.framesDrawn++;
+    this.frameLog.push([performance.now(), simTimeS, performance.now() - start]);
+    if (this.frameLog.length > 4096) this.frameLog.splice(0, 2048);
   }
 
   async control(action) {

@@ -14,7 +14,8 @@ const MARKER_COLORS = {
 export class View3D {
   constructor(canvas) {
     this.canvas = canvas;
-    this.renderer = new THREE.WebGLRenderer({canvas, antialias: true, preserveDrawingBuffer: true});
+    // No multisampling: software GL (a laptop without a GPU driver) draws 4x fewer samples.
+    this.renderer = new THREE.WebGLRenderer({canvas, antialias: false, preserveDrawingBuffer: true});
     this.renderer.setClearColor(0xf4f4f4);
     this.scene = new THREE.Scene();
     this.camera = new THREE.PerspectiveCamera(35, 1, 1e-4, 10);
@@ -24,8 +25,12 @@ export class View3D {
     sun.position.set(0.3, -0.5, 1);
     this.scene.add(sun);
     this.geometry = new THREE.BufferGeometry();
-    this.material = new THREE.MeshStandardMaterial({color: TISSUE_COLOR, side: THREE.DoubleSide, roughness: 0.8});
+    // Flat shading: normals from screen-space derivatives, none to recompute
+    // on the CPU for every frame of a deforming mesh.
+    this.material = new THREE.MeshStandardMaterial(
+        {color: TISSUE_COLOR, side: THREE.DoubleSide, roughness: 0.8, flatShading: true});
     this.mesh = new THREE.Mesh(this.geometry, this.material);
+    this.mesh.frustumCulled = false;  // its bounds are computed once, when the view is framed
     this.scene.add(this.mesh);
     this.tool =
         new THREE.Mesh(new THREE.CylinderGeometry(1, 1, 1, 12), new THREE.MeshStandardMaterial({color: 0x2050d0}));
@@ -61,9 +66,10 @@ export class View3D {
       this.geometry.setIndex(cache.liveTriangles());
       cache.topologyChanged = false;
     }
-    this.geometry.computeVertexNormals();
-    this.geometry.computeBoundingSphere();
-    if (!this.framed) this.frameMesh();
+    if (!this.framed) {
+      this.geometry.computeBoundingSphere();
+      this.frameMesh();
+    }
     this.updateTool(tool);
     for (const e of events || []) this.addMarker(e);
     this.render();

@@ -4,8 +4,9 @@
 
 #include <utility>
 
-#include "console_streams.h"
+#include "class_watch_hub.h"
 #include "hapsim/runtime/errors.h"
+#include "trainee_view.h"
 
 namespace hapsim::web {
 
@@ -108,6 +109,9 @@ void ConsoleSession::OnMessage(std::string_view bytes) {
     case v1::ConsoleRequest::kCloseView:
       CloseView();
       break;
+    case v1::ConsoleRequest::kStatusAck:
+      StatusDone();
+      break;
     case v1::ConsoleRequest::kHello:
       Refuse(grpc::StatusCode::INVALID_ARGUMENT, "hello sent twice");
       break;
@@ -143,17 +147,7 @@ void ConsoleSession::Authorize(grpc::ClientContext* context) const {
 }
 
 void ConsoleSession::WatchClass(const v1::WatchClassRequest& request) {
-  auto* watch = new ClassWatch(shared_from_this());
-  {
-    std::lock_guard lock(mutex_);
-    if (!transport_) {  // closed meanwhile: never started
-      delete watch;
-      return;
-    }
-    // Cleared before it is cancelled: a replaced view's end is not news.
-    if (ClassWatch* old = std::exchange(class_watch_, watch)) old->Cancel();
-  }
-  watch->Start(request);
+  services_.class_watches->Join(*token_, request, shared_from_this());
 }
 
 void ConsoleSession::OpenView(const v1::SubscribeRequest& request) {
@@ -256,17 +250,48 @@ void ConsoleSession::SendEvent(const v1::ConsoleEvent& event, std::function<void
   transport->Send(std::move(bytes), std::move(on_sent));
 }
 
-void ConsoleSession::StreamEnded(const char* stream, const grpc::Status& status, const void* which) {
+void ConsoleSession::OfferStatus(std::shared_ptr<const std::string> event_bytes) {
+  std::shared_ptr<ConsoleTransport> transport;
   {
     std::lock_guard lock(mutex_);
-    if (which == class_watch_) {
-      class_watch_ = nullptr;
-    } else if (which == view_) {
-      view_ = nullptr;
-    } else {
-      return;  // replaced or closed by the browser, or the connection is gone
+    if (!transport_) return;
+    if (status_in_flight_) {
+      next_status_ = std::move(event_bytes);
+      return;
     }
+    status_in_flight_ = true;
+    transport = transport_;
   }
+  services_.counters->bytes_sent.fetch_add(event_bytes->size(), std::memory_order_relaxed);
+  transport->Send(std::move(event_bytes), [self = weak_from_this()](bool sent) {
+    if (!sent) {
+      if (auto session = self.lock()) session->StatusDone();
+    }
+  });
+}
+
+void ConsoleSession::StatusDone() {
+  std::shared_ptr<const std::string> next;
+  {
+    std::lock_guard lock(mutex_);
+    if (!status_in_flight_) return;  // an ack for nothing: ignored
+    status_in_flight_ = false;
+    next = std::move(next_status_);
+  }
+  services_.counters->statuses_sent.fetch_add(1, std::memory_order_relaxed);
+  if (next) OfferStatus(std::move(next));
+}
+
+void ConsoleSession::ViewEnded(const grpc::Status& status, const TraineeView* view) {
+  {
+    std::lock_guard lock(mutex_);
+    if (view != view_) return;  // closed or replaced by the browser, or the connection is gone
+    view_ = nullptr;
+  }
+  StreamEnded("view", status);
+}
+
+void ConsoleSession::StreamEnded(const char* stream, const grpc::Status& status) {
   v1::ConsoleEvent event;
   v1::ConsoleStreamEnded* ended = event.mutable_ended();
   ended->set_stream(stream);
@@ -295,8 +320,9 @@ void ConsoleSession::Refuse(grpc::StatusCode code, const std::string& message) {
 void ConsoleSession::OnClosed() {
   std::lock_guard lock(mutex_);
   transport_.reset();
-  if (ClassWatch* watch = std::exchange(class_watch_, nullptr)) watch->Cancel();
+  next_status_.reset();
   if (TraineeView* view = std::exchange(view_, nullptr)) view->Cancel();
+  services_.class_watches->Leave(this);
 }
 
 }  // namespace hapsim::web

@@ -1,11 +1,11 @@
 // One browser's console connection, as protocol: the hello and its token,
-// the class view (WatchClass), the one open trainee view (Subscribe, with
-// the browser's acks) and unary calls (pause, resume, reset, push
+// the class view (WatchClass, shared by ClassWatchHub), the one open
+// trainee view (Subscribe, with the browser's acks) and unary calls (pause, resume, reset, push
 // scenario, trials, sessions, scenes), each made on the server's own gRPC
-// services over the in-process channel with the browser's token. A stream
-// reads its next message only once the browser has been sent the previous
-// one, so a stalled tab holds one message here and the server's viewer link
-// coalesces the rest (newest state wins).
+// services over the in-process channel with the browser's token. The view
+// reads its next frame only once the browser has been sent the previous
+// one, so a stalled tab holds one frame here and the server's viewer link
+// coalesces the rest (newest state wins); statuses wait one at a time.
 #pragma once
 #include <grpcpp/grpcpp.h>
 
@@ -41,15 +41,17 @@ class OpenCalls {
   int open_ = 0;
 };
 
+class ClassWatchHub;
+
 struct ConsoleServices {
   std::shared_ptr<grpc::Channel> channel;
+  ClassWatchHub* class_watches = nullptr;         // the class views, shared between connections
   const service::AccessPolicy* policy = nullptr;  // nullptr or disabled: development mode
   std::string server_version;
   WebConsoleCounters* counters = nullptr;
   OpenCalls* open_calls = nullptr;
 };
 
-class ClassWatch;
 class TraineeView;
 
 class ConsoleSession : public std::enable_shared_from_this<ConsoleSession> {
@@ -67,7 +69,14 @@ class ConsoleSession : public std::enable_shared_from_this<ConsoleSession> {
   // For the streams and calls (any thread): send an event; on_sent as
   // ConsoleTransport::Send's (false at once if the connection has closed).
   void SendEvent(const hapsim::v1::ConsoleEvent& event, std::function<void(bool sent)> on_sent);
-  void StreamEnded(const char* stream, const grpc::Status& status, const void* which);
+  // A class status (an encoded ConsoleEvent), newest wins: while the
+  // browser has not acknowledged the previous one, a newer one replaces the
+  // one waiting.
+  void OfferStatus(std::shared_ptr<const std::string> event_bytes);
+  // Tells the browser its class view or trainee view ended, and why.
+  void StreamEnded(const char* stream, const grpc::Status& status);
+  // `view`'s stream ended: told unless the browser closed or replaced it.
+  void ViewEnded(const grpc::Status& status, const TraineeView* view);
   void CallDone() { calls_in_flight_.fetch_sub(1); }
   // Sets the browser's token on a call's context.
   void Authorize(grpc::ClientContext* context) const;
@@ -84,6 +93,7 @@ class ConsoleSession : public std::enable_shared_from_this<ConsoleSession> {
   void Call(const hapsim::v1::ConsoleCall& call);
   // Refuses the connection: tells the browser why, then closes.
   void Refuse(grpc::StatusCode code, const std::string& message);
+  void StatusDone();  // the browser acknowledged the status, or it could not be sent
 
   ConsoleServices services_;
   std::unique_ptr<hapsim::v1::SessionService::Stub> sessions_stub_;
@@ -95,8 +105,9 @@ class ConsoleSession : public std::enable_shared_from_this<ConsoleSession> {
   // cancelling a stream may run its end (StreamEnded) inline.
   mutable std::recursive_mutex mutex_;
   std::shared_ptr<ConsoleTransport> transport_;
-  ClassWatch* class_watch_ = nullptr;
   TraineeView* view_ = nullptr;
+  bool status_in_flight_ = false;
+  std::shared_ptr<const std::string> next_status_;  // the newest status, waiting
 };
 
 }  // namespace hapsim::web

@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "class_watch_hub.h"
 #include "console_session.h"
 #include "hapsim/web/static_files.h"
 
@@ -53,6 +54,7 @@ struct WebConsole::Impl {
   WebConsoleOptions options;
   WebConsoleCounters counters;
   OpenCalls open_calls;
+  std::unique_ptr<ClassWatchHub> class_watches;
   ConsoleServices services;
   std::optional<ssl::context> tls;
   int bound_port = 0;
@@ -367,7 +369,9 @@ WebConsole::WebConsole(const WebConsoleOptions& options, std::shared_ptr<grpc::C
     : impl_(std::make_unique<Impl>()) {
   Impl& w = *impl_;
   w.options = options;
-  w.services = ConsoleServices{std::move(channel), policy, options.server_version, &w.counters, &w.open_calls};
+  w.class_watches = std::make_unique<ClassWatchHub>(channel, &w.open_calls, &w.counters);
+  w.services = ConsoleServices{std::move(channel),     w.class_watches.get(), policy,
+                               options.server_version, &w.counters,           &w.open_calls};
   if (options.tls_cert_file.empty() != options.tls_key_file.empty()) {
     throw std::runtime_error("the web console's TLS needs both a certificate and its key");
   }

@@ -80,6 +80,11 @@ class ConsoleClient {
     if (!event.ParseFromArray(data.data(), static_cast<int>(data.size()))) return std::nullopt;
     ++received_;
     bytes_ += data.size();
+    if (event.has_class_status()) {  // shown at once, as the web app does
+      hapsim::v1::ConsoleRequest ack;
+      ack.mutable_status_ack()->set_seq(event.class_status().seq());
+      Send(ack);
+    }
     return event;
   }
 

@@ -216,6 +216,26 @@ TEST_F(WebConsoleTest, AnInstructorWatchesEveryTraineeOfTheClass) {
   }
 }
 
+// The server allows 16 class views at once (each holds a server thread);
+// browsers with the same token share one, so more tabs than that all watch.
+TEST_F(WebConsoleTest, MoreTabsThanTheServersClassViewsAllWatchTheClass) {
+  Start();
+  constexpr int kTabs = 20;
+  static_assert(kTabs > service::ClassroomCalls::kMaxWatchStreams);
+  std::vector<std::unique_ptr<PlainClient>> tabs;
+  hapsim::v1::ConsoleRequest watch;
+  watch.mutable_watch_class()->set_class_name("anatomy");
+  for (int i = 0; i < kTabs; ++i) {
+    tabs.push_back(LoggedIn(i % 2 ? "observer-token-web1" : "instructor-token-web1"));
+    tabs.back()->Send(watch);
+  }
+  for (int i = 0; i < kTabs; ++i) {
+    const auto status = tabs[static_cast<std::size_t>(i)]->NextOf(ConsoleEvent::kClassStatus);
+    ASSERT_TRUE(status) << "tab " << i;
+    EXPECT_EQ(status->class_status().sessions_size(), 2) << "tab " << i;
+  }
+}
+
 TEST_F(WebConsoleTest, AnObserversResetIsRefusedByTheServersPolicyAndAnInstructorsIsDone) {
   Start();
   const auto denied_before = app_->policy().counters().permission_denied.load();

@@ -1,0 +1,110 @@
+#!/usr/bin/env bash
+# What the browser console costs the server, and whether it disturbs the
+# 1 kHz loop (not in CI: run by hand on a quiet 2-core machine; figures in
+# docs/performance.md, "The web console"). A class of TRAINEES acupuncture
+# sessions on TLS with tokens; hapsim-server pinned to core 0 with one tick
+# worker; hapsim-load on core 1 driving every trainee (needle insertions,
+# its devices on their own clocks); for each N in BROWSERS, N console
+# connections (bench_web_probe, core 1) watch the class at 10 Hz as the
+# tiles do, the first also viewing t1 and acknowledging every frame. Each N
+# is a fresh server, run back to back. Reports: server CPU [cores], the
+# round trip p50/p99 and the server's late ticks (hapsim-load's report),
+# class status sizes, and the view's frame rate and frame sizes. Then one
+# more run with a real browser (Debian's Chromium, web/bench/view_lag.mjs)
+# viewing t1 (only t1's device streams, so core 1 is mostly the browser's),
+# unthrottled and then with its CPU throttled THROTTLE times (DevTools'
+# CPU throttling): drawings per second and how far the view lags behind.
+#
+#   tests/bench/web_console.sh [BIN_DIR] [OUT_DIR]
+#
+# Environment: BROWSERS [0 1 30 0 30], TRAINEES [16], RUN_S [10], THROTTLE
+# [4 20] (empty: no browser run). All on 127.0.0.1.
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/../.." && pwd)
+bin=$(cd "${1:-$repo/build/bin}" && pwd)
+out=${2:-$repo/build/web-console-$(date -u +%Y%m%dT%H%M%SZ)}
+BROWSERS=${BROWSERS:-0 1 30 0 30}
+THROTTLE=${THROTTLE-4 20}
+TRAINEES=${TRAINEES:-16}
+RUN_S=${RUN_S:-10}
+mkdir -p "$out" && cd "$out"
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done; }
+trap cleanup EXIT
+cpu_ticks() { awk '{ print $14 + $15 }' "/proc/$1/stat"; }
+free_port() { /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+bash "$repo/deploy/make-dev-certs.sh" certs >/dev/null
+bash "$repo/deploy/make-class.sh" class bench "$TRAINEES" acupuncture >/dev/null
+sessions=$(seq -s, -f 't%g' 1 "$TRAINEES")
+hz=$(getconf CLK_TCK)
+
+# start_class SECONDS SESSIONS: a fresh server (core 0) and these trainees' devices (core 1) in the current folder.
+start_class() {
+  domain=$((220 + RANDOM % 12)) grpc_port=$(free_port) web_port=$(free_port)
+  taskset -c 0 "$bin/hapsim-server" --listen "127.0.0.1:$grpc_port" --dds-domain "$domain" --workers 1 \
+      --class-config "$out/class/class.toml" --tls-cert "$out/certs/server.pem" --tls-key "$out/certs/server.key" \
+      --web-listen "127.0.0.1:$web_port" >server.out 2>server.log &
+  server=$!; pids+=("$server")
+  for _ in $(seq 1 100); do grep -q "web console at" server.log && break; sleep 0.1; done
+  taskset -c 1 "$bin/hapsim-load" --sessions "$2" --dds-domain "$domain" --script insertion \
+      --seconds "$1" --server "127.0.0.1:$grpc_port" --tls-ca "$out/certs/ca.pem" \
+      --token-file "$out/class/tokens/instructor.token" --server-stats --json load.json >load.out 2>load.err &
+  load=$!; pids+=("$load")
+  sleep 2
+}
+
+k=0
+runs=()
+for n in $BROWSERS; do
+  k=$((k + 1)) dir="$out/run-$k-browsers-$n" && mkdir -p "$dir" && cd "$dir"
+  runs+=("run-$k-browsers-$n")
+  start_class $((RUN_S + 4)) "$sessions"
+  before=$(cpu_ticks "$server")
+  if [ "$n" -gt 0 ]; then
+    taskset -c 1 "$bin/bench_web_probe" --port "$web_port" --tls-ca "$out/certs/ca.pem" \
+        --token-file "$out/class/tokens/observer.token" --class bench --view t1 --clients "$n" \
+        --seconds "$RUN_S" >probe.json 2>probe.err || true
+  else
+    sleep "$RUN_S"
+  fi
+  after=$(cpu_ticks "$server")
+  wait "$load" || true
+  kill -TERM "$server"; wait "$server" || true
+  echo "{\"browsers\": $n, \"server_cores\": $(awk -v a="$before" -v b="$after" -v hz="$hz" -v s="$RUN_S" \
+      'BEGIN { printf "%.3f", (b - a) / hz / s }')}" >cpu.json
+  cd "$out"
+done
+/usr/bin/python3 - "$out" "${runs[@]}" <<'PY'
+import json, sys, os
+out, runs = sys.argv[1], sys.argv[2:]
+print(f"{'browsers':>8} {'server cores':>12} {'rt p50 ms':>9} {'rt p99 ms':>9} {'late ticks':>10} "
+      f"{'status B':>8} {'max':>6} {'view fps':>8} {'vertices':>8} {'key B':>7} {'delta B':>7} {'max':>6}")
+for run in runs:
+    n = run.split("-")[-1]
+    d = os.path.join(out, run)
+    cpu = json.load(open(os.path.join(d, "cpu.json")))
+    load = json.load(open(os.path.join(d, "load.json")))
+    probe = json.load(open(os.path.join(d, "probe.json"))) if os.path.exists(os.path.join(d, "probe.json")) else {}
+    late = sum(s["late_ticks"] for s in load.get("server_sessions", []))
+    rt = load["total"]["round_trip_ms"]
+    g = lambda k: probe.get(k, 0)
+    print(f"{n:>8} {cpu['server_cores']:>12.3f} {rt['p50']:>9.2f} {rt['p99']:>9.2f} {late:>10} "
+          f"{g('status_bytes_mean'):>8.0f} {g('status_bytes_max'):>6} {g('view_fps'):>8.1f} {g('view_vertices'):>8} "
+          f"{g('keyframe_bytes'):>7} {g('delta_bytes_mean'):>7.0f} {g('delta_bytes_max'):>6}")
+PY
+
+if [ -n "$THROTTLE" ]; then
+  dir="$out/view-lag" && mkdir -p "$dir" && cd "$dir"
+  start_class 60 t1  # one device: the browser shares core 1 with it, and a laptop is not a load generator
+  spki=$(openssl x509 -in "$out/certs/server.pem" -pubkey -noout | openssl pkey -pubin -outform der |
+         openssl dgst -sha256 -binary | base64)
+  HAPSIM_WEB_URL="https://127.0.0.1:$web_port/" HAPSIM_WEB_SPKI="$spki" HAPSIM_TOKENS="$out/class/tokens" \
+  HAPSIM_SESSION=t1 THROTTLE="$THROTTLE" taskset -c 1 node "$repo/web/bench/view_lag.mjs" >lag.json
+  kill -TERM "$server"; wait "$server" || true
+  /usr/bin/python3 -c '
+import json, sys
+print(f"{\"browser view of t1\":>20} {\"drawn/s\":>7} {\"lag p50 ms\":>10} {\"p99\":>7} {\"max\":>7} {\"draw p50 ms\":>11} {\"msg/s\":>6} {\"ms/msg\":>6}")
+for p in json.load(open(sys.argv[1])):
+    print(f"{p[\"name\"]:>20} {p[\"fps\"]:>7.1f} {p[\"lag_ms_p50\"]:>10.1f} {p[\"lag_ms_p99\"]:>7.1f} {p[\"lag_ms_max\"]:>7.1f} {p[\"draw_ms_p50\"]:>11.1f} {p[\"messages_per_s\"]:>6.1f} {p[\"ms_per_message\"]:>6.2f}")
+' lag.json
+fi

@@ -1,0 +1,60 @@
+// How far the browser's trainee view lags behind the server when the tab is
+// slow (run by tests/bench/web_console.sh; docs/performance.md, "The web
+// console"). Opens a trainee's view in Debian's Chromium, lets it run
+// unthrottled, then slows the page's CPU with the DevTools protocol
+// (Emulation.setCPUThrottlingRate) and keeps watching. A drawing's lag is
+// when it was drawn minus the sim time of the state it shows, less the
+// smallest such difference seen unthrottled (the pipeline's own delay): the
+// session's sim clock runs with the wall clock, so this is how much older
+// than the newest state what the instructor sees is. Prints JSON: drawings
+// per second and lag p50/p99/max per phase.
+// Environment as web/test/console.test.mjs, plus HAPSIM_SESSION, and
+// THROTTLE (e.g. "20 50"), PHASE_S.
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+import { chromium } from "playwright-core";
+
+const env = process.env;
+const phaseS = Number(env.PHASE_S || 8);
+const rates = (env.THROTTLE || "20").split(" ").map(Number);
+const browser = await chromium.launch({
+  executablePath: env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
+  args: ["--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", `--ignore-certificate-errors-spki-list=${env.HAPSIM_WEB_SPKI}`,
+    "--use-angle=swiftshader", "--enable-unsafe-swiftshader"],
+});
+const page = await browser.newPage({ viewport: { width: 1366, height: 768 } });
+await page.goto(env.HAPSIM_WEB_URL);
+await page.fill("#token", readFileSync(join(env.HAPSIM_TOKENS, "instructor.token"), "utf8").trim());
+await page.click("#login button[type=submit]");
+await page.waitForSelector(`.tile[data-session="${env.HAPSIM_SESSION}"]`);
+await page.click(`.tile[data-session="${env.HAPSIM_SESSION}"]`);
+await page.waitForFunction(() => window.hapsim.framesApplied > 10);
+console.error("view open; measuring");
+const cdp = await page.context().newCDPSession(page);
+
+async function phase(name, rate) {
+  console.error(`phase ${name}`);
+  await cdp.send("Emulation.setCPUThrottlingRate", { rate });
+  const from = await page.evaluate(() => [performance.now(), window.hapsim.connection.handlingMs,
+    window.hapsim.connection.messages]);
+  await page.waitForTimeout(phaseS * 1000);
+  const [log, handlingMs, messages] = await page.evaluate(([t0, ms0, n0]) =>
+    [window.hapsim.frameLog.filter(([at]) => at >= t0), window.hapsim.connection.handlingMs - ms0,
+      window.hapsim.connection.messages - n0], from);
+  return { name, rate, log, handlingMs, messages };
+}
+const phases = [await phase("unthrottled", 1)];
+for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
+await cdp.send("Emulation.setCPUThrottlingRate", { rate: 1 });
+const base = Math.min(...phases[0].log.map(([at, sim]) => at - sim * 1000));
+const pct = (sorted, q) => sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
+const out = phases.map(({ name, rate, log, handlingMs, messages }) => {
+  const lags = log.map(([at, sim]) => at - sim * 1000 - base).sort((a, b) => a - b);
+  const draws = log.map(([, , ms]) => ms).sort((a, b) => a - b);
+  return { name, rate, drawings: log.length, fps: log.length / phaseS, lag_ms_p50: pct(lags, 0.5),
+    lag_ms_p99: pct(lags, 0.99), lag_ms_max: lags[lags.length - 1], draw_ms_p50: pct(draws, 0.5),
+    draw_ms_p99: pct(draws, 0.99), messages_per_s: messages / phaseS, ms_per_message: handlingMs / messages };
+});
+console.log(JSON.stringify(out));
+await browser.close();
