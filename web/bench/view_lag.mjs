@@ -9,14 +9,19 @@
 // than the newest state what the instructor sees is. Prints JSON: drawings
 // per second and lag p50/p99/max per phase.
 // Environment as web/test/console.test.mjs, plus HAPSIM_SESSION, and
-// THROTTLE (e.g. "20 50"), PHASE_S.
+// THROTTLE (e.g. "4 10"), PHASE_S.
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
 
 const env = process.env;
 const phaseS = Number(env.PHASE_S || 8);
-const rates = (env.THROTTLE || "20").split(" ").map(Number);
+const rates = (env.THROTTLE || "4 10").split(" ").map(Number);
+// A page throttled past what this machine can serve may stop answering: give up, loudly.
+setTimeout(() => {
+  console.error("view_lag: no answer from the page in time");
+  process.exit(1);
+}, (rates.length + 1) * phaseS * 1000 + 90000).unref();
 const browser = await chromium.launch({
   executablePath: env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
   args: ["--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
@@ -39,6 +44,7 @@ async function phase(name, rate) {
   const from = await page.evaluate(() => [performance.now(), window.hapsim.connection.handlingMs,
     window.hapsim.connection.messages]);
   await page.waitForTimeout(phaseS * 1000);
+  await cdp.send("Emulation.setCPUThrottlingRate", { rate: 1 });  // a throttled page answers slowly
   const [log, handlingMs, messages] = await page.evaluate(([t0, ms0, n0]) =>
     [window.hapsim.frameLog.filter(([at]) => at >= t0), window.hapsim.connection.handlingMs - ms0,
       window.hapsim.connection.messages - n0], from);
@@ -46,7 +52,6 @@ async function phase(name, rate) {
 }
 const phases = [await phase("unthrottled", 1)];
 for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
-await cdp.send("Emulation.setCPUThrottlingRate", { rate: 1 });
 const base = Math.min(...phases[0].log.map(([at, sim]) => at - sim * 1000));
 const pct = (sorted, q) => sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
 const out = phases.map(({ name, rate, log, handlingMs, messages }) => {
