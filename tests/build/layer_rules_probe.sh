@@ -16,7 +16,7 @@ make_tree() {
   local t=$1
   mkdir -p "$t/cmake" "$t/core/src" "$t/io/src" "$t/common/src" "$t/dds/src" "$t/wire/src" \
            "$t/server/runtime/src" "$t/server/device_link/src" "$t/server/streaming/src" "$t/server/classroom/src" \
-           "$t/server/api/src" "$t/server/app/src" "$t/server/recording/src" "$t/server/store/src" \
+           "$t/server/api/src" "$t/server/web/src" "$t/server/app/src" "$t/server/recording/src" "$t/server/store/src" \
            "$t/device-bridge/servo/src" "$t/device-bridge/backends" "$t/device-bridge/dds/src" \
            "$t/device-bridge/load/src" "$t/client-viewer/src" "$t/netlab/src"
   cp "$src/cmake/HapsimLayers.cmake" "$src/cmake/HapsimLayerRules.cmake" "$src/cmake/CheckIncludes.cmake" "$t/cmake/"
@@ -33,6 +33,7 @@ make_tree() {
   printf '#include <zstd.h>\n#include "hapsim/runtime/tick_input.h"\n' >"$t/server/recording/src/recording_format.cpp"
   printf '#include <sqlite3.h>\n#include "hapsim/classroom/trial_book.h"\n' >"$t/server/store/src/results_store.cpp"
   printf '#include <grpcpp/grpcpp.h>\n#include "hapsim/classroom/trial_book.h"\n' >"$t/server/api/src/session_service.cpp"
+  printf '#include <boost/beast/websocket.hpp>\n#include "hapsim/classroom/access_policy.h"\n' >"$t/server/web/src/web_console.cpp"
   echo '#include "hapsim/api/session_service.h"' >"$t/server/app/src/server_app.cpp"
   echo '#include "hapsim/core/haptics/local_force_model.h"' >"$t/device-bridge/servo/src/servo_channel.cpp"
   echo '#include "hapsim/dds/dds.h"' >"$t/device-bridge/dds/src/device_dds.cpp"
@@ -47,13 +48,13 @@ list(APPEND CMAKE_MODULE_PATH ${CMAKE_CURRENT_SOURCE_DIR}/cmake)
 set(HAPSIM_CORE_ONLY OFF)
 # Stub externals and stub targets with our names and our real link graph.
 foreach(ext Eigen3::Eigen spdlog::spdlog CycloneDDS::ddsc protobuf::libprotobuf gRPC::grpc gRPC::grpc++
-           zstd::libzstd_shared SQLite::SQLite3)
+           zstd::libzstd_shared SQLite::SQLite3 Boost::headers)
   add_library(${ext} INTERFACE IMPORTED)
 endforeach()
 target_link_libraries(gRPC::grpc++ INTERFACE gRPC::grpc)
 foreach(t hapsim_core hapsim_io hapsim_common hapsim_dds_types hapsim_dds hapsim_wire hapsim_proto
           hapsim_runtime hapsim_device_link hapsim_streaming hapsim_classroom hapsim_recording hapsim_store
-          hapsim_api hapsim_app
+          hapsim_api hapsim_web hapsim_app
           hapsim_servo hapsim_bridge hapsim_load hapsim_viewer hapsim_viewer_export hapsim_netlab)
   add_library(${t} INTERFACE)
 endforeach()
@@ -77,7 +78,8 @@ link(hapsim_classroom hapsim_runtime)
 link(hapsim_recording hapsim_runtime zstd::libzstd_shared)
 link(hapsim_store hapsim_classroom SQLite::SQLite3)
 link(hapsim_api hapsim_device_link hapsim_streaming hapsim_classroom hapsim_recording hapsim_store)
-link(hapsim_app hapsim_api)
+link(hapsim_web hapsim_classroom hapsim_proto gRPC::grpc++ Boost::headers)
+link(hapsim_app hapsim_api hapsim_web)
 link(hapsim_servo hapsim_core hapsim_common)
 link(hapsim_bridge hapsim_servo hapsim_dds hapsim_wire)
 link(hapsim_load hapsim_bridge)
@@ -177,6 +179,12 @@ expect store_includes_grpc fail "hapsim::store may not include.*grpcpp" \
   sh -c 'echo "#include <grpcpp/grpcpp.h>" >>server/store/src/results_store.cpp'
 expect store_links_proto fail "hapsim_store links hapsim_proto" \
   sh -c 'echo "link(hapsim_store hapsim_proto)" >probe.cmake'
+expect web_includes_api fail "hapsim::web may not include.*hapsim/api/" \
+  sh -c 'echo "#include \"hapsim/api/session_service.h\"" >>server/web/src/web_console.cpp'
+expect web_includes_dds fail "hapsim::web may not include.*dds/dds.h" \
+  sh -c 'echo "#include <dds/dds.h>" >>server/web/src/web_console.cpp'
+expect web_links_api fail "hapsim_web links hapsim_api" \
+  sh -c 'echo "link(hapsim_web hapsim_api)" >probe.cmake'
 expect api_includes_wire_types fail "hapsim::api may not include.*haptics" \
   sh -c 'echo "#include \"haptics.h\"" >>server/api/src/session_service.cpp'
 expect api_includes_app fail "hapsim::api may not include.*hapsim/app/" \
