@@ -138,8 +138,19 @@ export class View3D {
   // Where the tool tip is on the canvas, in CSS pixels (null: no tool): for
   // the browser test, which checks the needle is drawn there.
   projectedTip() {
+    return this.tip ? this.project(this.tip) : null;
+  }
+
+  // A point of the tool's shaft on the canvas: `fraction` of its length from
+  // the tip towards the handle (the part inside the tissue is hidden by it).
+  projectedShaft(fraction) {
     if (!this.tip) return null;
-    const p = this.tip.clone().project(this.camera);
+    const up = new THREE.Vector3(0, 1, 0).applyQuaternion(this.tool.quaternion);
+    return this.project(this.tip.clone().addScaledVector(up, fraction * this.tool.scale.y));
+  }
+
+  project(point) {
+    const p = point.clone().project(this.camera);
     return {x: ((p.x + 1) / 2) * this.canvas.clientWidth, y: ((1 - p.y) / 2) * this.canvas.clientHeight};
   }
 }
