@@ -24,9 +24,13 @@ class ClassWatchHub::Watch final : public grpc::ClientReadReactor<v1::ClassStatu
   }
   const std::string& key() const { return key_; }
 
+  // Called with the hub's lock held, so the stream has not ended yet (its
+  // end takes the lock before it deletes the reactor). The hold is released
+  // last: the end may run inline from there.
   void Cancel() {
+    const bool holding = !released_.exchange(true);
     context_.TryCancel();
-    ReleaseHold();
+    if (holding) RemoveHold();
   }
 
   void OnReadDone(bool ok) override {
@@ -69,29 +73,23 @@ void ClassWatchHub::Join(const std::string& token, const v1::WatchClassRequest& 
                          const std::shared_ptr<ConsoleSession>& who) {
   // The token is part of the key: a stream is authorised for its caller only.
   const std::string key = token + '\n' + request.class_name() + '\n' + std::to_string(request.rate_hz());
+  std::lock_guard lock(mutex_);
   Watch* to_cancel = nullptr;
-  Watch* watch = nullptr;
-  {
-    std::lock_guard lock(mutex_);
-    LeaveLocked(who.get(), &to_cancel);
-    const auto found = by_key_.find(key);
-    if (found != by_key_.end()) {
-      watch = found->second;
-    } else {
-      watch = new Watch(this, key, token, request);
-      by_key_[key] = watch;
-    }
-    members_[who.get()] = {watch, who};
+  LeaveLocked(who.get(), &to_cancel);
+  const auto found = by_key_.find(key);
+  Watch* watch = found != by_key_.end() ? found->second : nullptr;
+  if (!watch) {
+    watch = new Watch(this, key, token, request);
+    by_key_[key] = watch;
   }
-  if (to_cancel) to_cancel->Cancel();
+  members_[who.get()] = {watch, who};
+  if (to_cancel && to_cancel != watch) to_cancel->Cancel();
 }
 
 void ClassWatchHub::Leave(const ConsoleSession* who) {
+  std::lock_guard lock(mutex_);
   Watch* to_cancel = nullptr;
-  {
-    std::lock_guard lock(mutex_);
-    LeaveLocked(who, &to_cancel);
-  }
+  LeaveLocked(who, &to_cancel);
   if (to_cancel) to_cancel->Cancel();
 }
 
@@ -105,7 +103,7 @@ void ClassWatchHub::LeaveLocked(const ConsoleSession* who, Watch** to_cancel) {
   }
   const auto live = by_key_.find(watch->key());
   if (live != by_key_.end() && live->second == watch) by_key_.erase(live);
-  *to_cancel = watch;  // cancelled outside the lock: its end may run inline
+  *to_cancel = watch;  // cancelled by the caller, still under the lock
 }
 
 void ClassWatchHub::Deliver(Watch* watch, const v1::ClassStatus& status) {

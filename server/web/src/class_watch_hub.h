@@ -45,7 +45,10 @@ class ClassWatchHub {
   std::unique_ptr<hapsim::v1::SessionService::Stub> stub_;
   OpenCalls* open_calls_;
   WebConsoleCounters* counters_;
-  std::mutex mutex_;
+  // Recursive: cancelling a stream under it may end the stream inline, and
+  // its end (Ended) takes it too. A stream found in the maps under it has
+  // not been deleted.
+  std::recursive_mutex mutex_;
   std::map<std::string, Watch*> by_key_;  // the live stream of each token, class and rate
   std::map<const ConsoleSession*, std::pair<Watch*, std::weak_ptr<ConsoleSession>>> members_;
 };

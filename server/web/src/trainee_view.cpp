@@ -19,8 +19,14 @@ void TraineeView::Start(const hapsim::v1::SubscribeRequest& request) {
 }
 
 void TraineeView::Cancel() {
+  bool holding = false;
+  {
+    std::lock_guard lock(mutex_);
+    holding = !released_;
+    released_ = true;
+  }
   context_.TryCancel();
-  ReleaseHold();
+  if (holding) RemoveHold();  // last: the end may run inline from here
 }
 
 void TraineeView::ReleaseHold() {

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <deque>
 #include <fstream>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -412,14 +413,22 @@ void WebConsole::Stop() {
     if (w.stopped) return;
     w.stopped = true;
   }
-  net::post(w.io, [&w] {
+  // Every connection is closed on the I/O thread, and that has happened
+  // before the calls are waited for and the thread stops (a connection never
+  // closed would keep its session, and the session it, alive for ever).
+  std::promise<void> closed;
+  net::post(w.io, [&w, &closed] {
     beast::error_code ignored;
     w.acceptor.close(ignored);
     for (const auto& weak : w.live) {
       if (auto connection = weak.lock()) connection->CloseNow();
     }
     w.live.clear();
+    closed.set_value();
   });
+  if (closed.get_future().wait_for(std::chrono::seconds(3)) != std::future_status::ready) {
+    spdlog::warn("web console: its I/O thread did not close the connections within 3 s; stopping anyway");
+  }
   if (!w.open_calls.WaitForNone(std::chrono::seconds(3))) {
     spdlog::warn("web console: gRPC calls of its connections still open after 3 s; stopping anyway");
   }
