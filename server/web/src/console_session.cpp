@@ -125,20 +125,23 @@ void ConsoleSession::Hello(const v1::ConsoleHello& hello) {
   v1::ConsoleEvent event;
   v1::ConsoleWelcome* welcome = event.mutable_welcome();
   welcome->set_server(services_.server_version);
-  if (services_.policy && services_.policy->enabled()) {
-    const std::string authorization = "Bearer " + hello.token();
-    try {
-      const auto who = services_.policy->Authenticate(&authorization);
-      welcome->set_name(who->name);
-      welcome->set_role(service::RoleName(who->role));
-      welcome->set_class_name(who->class_name);
-      for (const auto& s : who->sessions) welcome->add_sessions(s);
-    } catch (const service::ServiceError& e) {
-      Refuse(grpc::StatusCode::UNAUTHENTICATED, e.what());  // counted by Authenticate
-      return;
-    }
+  if (!services_.policy || !services_.policy->enabled()) {
+    token_ = "";  // development mode: no token, none forwarded (whatever the page sent)
+    SendEvent(event, [](bool) {});
+    return;
   }
-  token_ = hello.token();
+  const std::string authorization = "Bearer " + hello.token();
+  try {
+    const auto who = services_.policy->Authenticate(&authorization);
+    welcome->set_name(who->name);
+    welcome->set_role(service::RoleName(who->role));
+    welcome->set_class_name(who->class_name);
+    for (const auto& s : who->sessions) welcome->add_sessions(s);
+  } catch (const service::ServiceError& e) {
+    Refuse(grpc::StatusCode::UNAUTHENTICATED, e.what());  // counted by Authenticate
+    return;
+  }
+  token_ = hello.token();  // a known token: forwarded on every call
   SendEvent(event, [](bool) {});
 }
 

@@ -76,7 +76,7 @@ class WebRoot {
 
 class WebConsoleTest : public ::testing::Test {
  protected:
-  void Start(const std::string& cert = "", const std::string& key = "") {
+  void Start(const std::string& cert = "", const std::string& key = "", bool with_classes = true) {
     service::ServerOptions o;
     o.listen_address = "127.0.0.1:0";
     o.dds.domain_id = hapsim::test::ClaimTestDdsDomain();
@@ -84,7 +84,7 @@ class WebConsoleTest : public ::testing::Test {
     o.web_root = root_.path();
     o.tls_cert_file = cert;
     o.tls_key_file = key;
-    o.classes = service::ParseClassConfig(kClassConfig, "test");
+    if (with_classes) o.classes = service::ParseClassConfig(kClassConfig, "test");
     app_ = std::make_unique<service::ServerApp>(o);
     port_ = app_->web_port();
     ASSERT_GT(port_, 0);
@@ -192,6 +192,20 @@ TEST_F(WebConsoleTest, TheWelcomeNamesTheTokensRoleAndClass) {
   EXPECT_EQ(welcome.welcome().class_name(), "anatomy");
   ASSERT_EQ(welcome.welcome().sessions_size(), 1);
   EXPECT_EQ(welcome.welcome().sessions(0), "t1");
+}
+
+// Without a class config (development mode) anyone may do anything, as over
+// gRPC; whatever the page sends as its token is not forwarded (a value that
+// is no valid metadata must not reach gRPC).
+TEST_F(WebConsoleTest, InDevelopmentModeAnyHelloIsWelcomeAndNoTokenIsForwarded) {
+  Start("", "", /*with_classes=*/false);
+  ConsoleEvent welcome;
+  auto client = LoggedIn("not\nmetadata", &welcome);
+  EXPECT_EQ(welcome.welcome().role(), "");
+  client->Send(Control(3, "pause", "t1"));
+  const auto reply = client->NextOf(ConsoleEvent::kReply);
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->reply().code(), grpc::StatusCode::NOT_FOUND) << "no session t1 without the class config";
 }
 
 TEST_F(WebConsoleTest, AnInstructorWatchesEveryTraineeOfTheClass) {
