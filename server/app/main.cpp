@@ -122,7 +122,8 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
   flags.Add("web-listen", &options->web_listen_address,
             "serve the browser console at https://HOST:PORT/ (http:// without --tls-cert; docs/classroom.md).\n"
             "Empty: off");
-  flags.Add("web-root", &options->web_root, "the built web app the console serves (default: the installed one)");
+  flags.Add("web-root", &options->web_root,
+            "the built web app the console serves (PREFIX/share/hapsim/web beside the program)");
   flags.Add("sessions", &f->sessions, "sessions to create at start: id[:scene],id[:scene],...");
   flags.Add("class-config", &f->class_config,
             "TOML file of classes, their sessions (created at start) and tokens with roles (docs/classroom.md);\n"
