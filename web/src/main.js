@@ -28,7 +28,6 @@ class ConsolePage {
     this.forceTime = new History(600);
     this.forceDepth = new History(600);
     this.framesApplied = 0;
-    this.framesDrawn = 0;
     this.plotsDrawnAt = -1e9;
     this.newEvents = [];  // events of frames applied since the last drawing
     this.frameLog = [];   // [drawn at ms, sim time s, drawing ms] of the newest drawings: how far the view lags
@@ -174,7 +173,6 @@ class ConsolePage {
   }
 
   logDrawing(start, simTimeS) {
-    this.framesDrawn++;
     this.frameLog.push([performance.now(), simTimeS, performance.now() - start]);
     if (this.frameLog.length > 4096) this.frameLog.splice(0, 2048);
   }

@@ -90,19 +90,7 @@ export class MeshCache {
     this.topologyChanged = true;
   }
 
-  // Live triangles of one part ("skin", "needle", ...) as vertex indices.
-  trianglesOfPart(part) {
-    const p = this.partNames.indexOf(part);
-    const out = [];
-    for (let t = 0; t < this.triangleLive.length; ++t) {
-      if (this.triangleLive[t] && (p < 0 || this.triangleParts[t] === p)) {
-        out.push(this.triangles[3 * t], this.triangles[3 * t + 1], this.triangles[3 * t + 2]);
-      }
-    }
-    return out;
-  }
-
-  // Every live triangle, and the part index of each.
+  // Every live triangle, as 3 vertex slots each (the renderer's index buffer).
   liveTriangles() {
     const index = [];
     for (let t = 0; t < this.triangleLive.length; ++t) {

@@ -63,9 +63,8 @@ class ClassWatchHub::Watch final : public grpc::ClientReadReactor<v1::ClassStatu
   std::atomic<bool> released_{false};
 };
 
-ClassWatchHub::ClassWatchHub(std::shared_ptr<grpc::Channel> channel, OpenCalls* open_calls,
-                             WebConsoleCounters* counters)
-    : stub_(v1::SessionService::NewStub(channel)), open_calls_(open_calls), counters_(counters) {}
+ClassWatchHub::ClassWatchHub(std::shared_ptr<grpc::Channel> channel, OpenCalls* open_calls)
+    : stub_(v1::SessionService::NewStub(channel)), open_calls_(open_calls) {}
 
 ClassWatchHub::~ClassWatchHub() = default;
 

@@ -19,11 +19,10 @@ namespace hapsim::web {
 
 class ConsoleSession;
 class OpenCalls;
-struct WebConsoleCounters;
 
 class ClassWatchHub {
  public:
-  ClassWatchHub(std::shared_ptr<grpc::Channel> channel, OpenCalls* open_calls, WebConsoleCounters* counters);
+  ClassWatchHub(std::shared_ptr<grpc::Channel> channel, OpenCalls* open_calls);
   ~ClassWatchHub();
 
   // `who` watches the class of `request` with `token` from now on (leaving
@@ -44,7 +43,6 @@ class ClassWatchHub {
 
   std::unique_ptr<hapsim::v1::SessionService::Stub> stub_;
   OpenCalls* open_calls_;
-  WebConsoleCounters* counters_;
   // Recursive: cancelling a stream under it may end the stream inline, and
   // its end (Ended) takes it too. A stream found in the maps under it has
   // not been deleted.

@@ -249,7 +249,6 @@ void ConsoleSession::SendEvent(const v1::ConsoleEvent& event, std::function<void
   }
   auto bytes = std::make_shared<std::string>();
   event.SerializeToString(bytes.get());
-  services_.counters->bytes_sent.fetch_add(bytes->size(), std::memory_order_relaxed);
   transport->Send(std::move(bytes), std::move(on_sent));
 }
 
@@ -265,7 +264,6 @@ void ConsoleSession::OfferStatus(std::shared_ptr<const std::string> event_bytes)
     status_in_flight_ = true;
     transport = transport_;
   }
-  services_.counters->bytes_sent.fetch_add(event_bytes->size(), std::memory_order_relaxed);
   transport->Send(std::move(event_bytes), [self = weak_from_this()](bool sent) {
     if (!sent) {
       if (auto session = self.lock()) session->StatusDone();
@@ -281,7 +279,6 @@ void ConsoleSession::StatusDone() {
     status_in_flight_ = false;
     next = std::move(next_status_);
   }
-  services_.counters->statuses_sent.fetch_add(1, std::memory_order_relaxed);
   if (next) OfferStatus(std::move(next));
 }
 
@@ -305,7 +302,6 @@ void ConsoleSession::StreamEnded(const char* stream, const grpc::Status& status)
 
 void ConsoleSession::Refuse(grpc::StatusCode code, const std::string& message) {
   refused_ = true;
-  services_.counters->connections_refused.fetch_add(1, std::memory_order_relaxed);
   spdlog::info("web console: connection refused: {}", message);
   v1::ConsoleEvent event;
   event.mutable_refused()->set_code(code);

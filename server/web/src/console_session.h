@@ -48,7 +48,6 @@ struct ConsoleServices {
   ClassWatchHub* class_watches = nullptr;         // the class views, shared between connections
   const service::AccessPolicy* policy = nullptr;  // nullptr or disabled: development mode
   std::string server_version;
-  WebConsoleCounters* counters = nullptr;
   OpenCalls* open_calls = nullptr;
 };
 

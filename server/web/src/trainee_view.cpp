@@ -52,10 +52,7 @@ void TraineeView::OnReadDone(bool ok) {
   hapsim::v1::ConsoleEvent event;
   event.mutable_frame()->Swap(&incoming_);
   owner_->SendEvent(event, [this](bool sent) {
-    if (sent) {
-      owner_->services().counters->frames_sent.fetch_add(1, std::memory_order_relaxed);
-      StartRead(&incoming_);
-    }
+    if (sent) StartRead(&incoming_);
     RemoveHold();
   });
 }

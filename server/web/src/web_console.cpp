@@ -53,7 +53,6 @@ struct WebConsole::Impl {
   // Everything the connections use is declared before the I/O context: the
   // handlers it still holds when it is destroyed destroy connections.
   WebConsoleOptions options;
-  WebConsoleCounters counters;
   OpenCalls open_calls;
   std::unique_ptr<ClassWatchHub> class_watches;
   ConsoleServices services;
@@ -126,7 +125,6 @@ class WebSocketLink final : public ConsoleTransport,
 
   void OnAccept(beast::error_code ec) {
     if (ec) return;
-    console_->counters.connections_accepted.fetch_add(1, std::memory_order_relaxed);
     auto& live = console_->live;
     live.erase(std::remove_if(live.begin(), live.end(), [](const auto& w) { return w.expired(); }), live.end());
     live.push_back(this->shared_from_this());
@@ -232,11 +230,9 @@ class HttpExchange final : public std::enable_shared_from_this<HttpExchange<Stre
   }
 
   void OnRequest(http::request<http::string_body> request) {
-    console_->counters.http_requests.fetch_add(1, std::memory_order_relaxed);
     if (websocket::is_upgrade(request)) {
       if (request.target() != "/ws") return Respond(request, http::status::not_found, "no WebSocket here: use /ws\n");
       if (console_->websockets >= console_->options.max_connections) {
-        console_->counters.connections_refused.fetch_add(1, std::memory_order_relaxed);
         return Respond(request, http::status::service_unavailable,
                        "too many console connections (" + std::to_string(console_->options.max_connections) + ")\n");
       }
@@ -370,9 +366,9 @@ WebConsole::WebConsole(const WebConsoleOptions& options, std::shared_ptr<grpc::C
     : impl_(std::make_unique<Impl>()) {
   Impl& w = *impl_;
   w.options = options;
-  w.class_watches = std::make_unique<ClassWatchHub>(channel, &w.open_calls, &w.counters);
-  w.services = ConsoleServices{std::move(channel),     w.class_watches.get(), policy,
-                               options.server_version, &w.counters,           &w.open_calls};
+  w.class_watches = std::make_unique<ClassWatchHub>(channel, &w.open_calls);
+  w.services =
+      ConsoleServices{std::move(channel), w.class_watches.get(), policy, options.server_version, &w.open_calls};
   if (options.tls_cert_file.empty() != options.tls_key_file.empty()) {
     throw std::runtime_error("the web console's TLS needs both a certificate and its key");
   }
@@ -404,7 +400,6 @@ WebConsole::~WebConsole() { Stop(); }
 
 int WebConsole::bound_port() const { return impl_->bound_port; }
 bool WebConsole::tls() const { return impl_->tls.has_value(); }
-const WebConsoleCounters& WebConsole::counters() const { return impl_->counters; }
 
 void WebConsole::Stop() {
   Impl& w = *impl_;

@@ -12,7 +12,6 @@
 #pragma once
 #include <grpcpp/grpcpp.h>
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -31,16 +30,6 @@ struct WebConsoleOptions {
   std::string server_version;
 };
 
-// What the endpoint has done, for tests and logs.
-struct WebConsoleCounters {
-  std::atomic<std::uint64_t> http_requests{0};
-  std::atomic<std::uint64_t> connections_accepted{0};
-  std::atomic<std::uint64_t> connections_refused{0};  // bad hello, bad message, too many
-  std::atomic<std::uint64_t> bytes_sent{0};           // WebSocket payload bytes
-  std::atomic<std::uint64_t> frames_sent{0};          // viewer frames
-  std::atomic<std::uint64_t> statuses_sent{0};        // class statuses
-};
-
 class WebConsole {
  public:
   // channel: to this server's gRPC services (grpc::Server::InProcessChannel).
@@ -56,7 +45,6 @@ class WebConsole {
 
   int bound_port() const;
   bool tls() const;
-  const WebConsoleCounters& counters() const;
   // Closes every connection (their streams end), waits for their gRPC calls
   // to finish and stops the I/O thread. Idempotent. Must run before the gRPC
   // server shuts down.
