@@ -14,7 +14,7 @@ seconds=${1:-20}
 runs=${2:--1}
 build="$root/build-fuzz"
 jobs=$(nproc 2>/dev/null || echo 2)
-CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHAPSIM_FUZZ=ON -DHAPSIM_UNITY_BUILD=OFF \
+CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHAPSIM_FUZZ=ON -DHAPSIM_UNITY_BUILD=ON \
     -DHAPSIM_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target hapsim-fuzz
 # One target per core at a time (a libFuzzer process is single-threaded), so

@@ -237,34 +237,30 @@ void ConsoleSession::Call(const v1::ConsoleCall& call) {
   }
 }
 
+// Sends are handed to the transport under the lock (Send only queues), so
+// none can slip in after a refusal or a close has taken the transport.
 void ConsoleSession::SendEvent(const v1::ConsoleEvent& event, std::function<void(bool sent)> on_sent) {
-  std::shared_ptr<ConsoleTransport> transport;
-  {
-    std::lock_guard lock(mutex_);
-    transport = transport_;
-  }
-  if (!transport) {
-    on_sent(false);
-    return;
-  }
   auto bytes = std::make_shared<std::string>();
   event.SerializeToString(bytes.get());
-  transport->Send(std::move(bytes), std::move(on_sent));
+  {
+    std::lock_guard lock(mutex_);
+    if (transport_) {
+      transport_->Send(std::move(bytes), std::move(on_sent));
+      return;
+    }
+  }
+  on_sent(false);
 }
 
 void ConsoleSession::OfferStatus(std::shared_ptr<const std::string> event_bytes) {
-  std::shared_ptr<ConsoleTransport> transport;
-  {
-    std::lock_guard lock(mutex_);
-    if (!transport_) return;
-    if (status_in_flight_) {
-      next_status_ = std::move(event_bytes);
-      return;
-    }
-    status_in_flight_ = true;
-    transport = transport_;
+  std::lock_guard lock(mutex_);
+  if (!transport_) return;
+  if (status_in_flight_) {
+    next_status_ = std::move(event_bytes);
+    return;
   }
-  transport->Send(std::move(event_bytes), [self = weak_from_this()](bool sent) {
+  status_in_flight_ = true;
+  transport_->Send(std::move(event_bytes), [self = weak_from_this()](bool sent) {
     if (!sent) {
       if (auto session = self.lock()) session->StatusDone();
     }
@@ -300,20 +296,20 @@ void ConsoleSession::StreamEnded(const char* stream, const grpc::Status& status)
   SendEvent(event, [](bool) {});
 }
 
+// A refusal is the last thing the browser hears: the session lets go of its
+// transport first (as if the connection had closed), so a call's answer or
+// a frame finishing on another thread afterwards is dropped, not sent.
 void ConsoleSession::Refuse(grpc::StatusCode code, const std::string& message) {
   refused_ = true;
   spdlog::info("web console: connection refused: {}", message);
   v1::ConsoleEvent event;
   event.mutable_refused()->set_code(code);
   event.mutable_refused()->set_message(message);
-  std::shared_ptr<ConsoleTransport> transport;
-  {
-    std::lock_guard lock(mutex_);
-    transport = transport_;
-  }
-  SendEvent(event, [transport](bool) {
-    if (transport) transport->Close();
-  });
+  auto bytes = std::make_shared<std::string>(event.SerializeAsString());
+  std::lock_guard lock(mutex_);
+  const std::shared_ptr<ConsoleTransport> transport = transport_;
+  OnClosed();
+  if (transport) transport->Send(std::move(bytes), [transport](bool) { transport->Close(); });
 }
 
 void ConsoleSession::OnClosed() {
