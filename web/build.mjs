@@ -2,6 +2,7 @@
 // files (protoc with protoc-gen-es), then one app.js with three.js and the
 // protobuf runtime (esbuild), next to index.html and style.css.
 //   node build.mjs OUT_DIR
+// HAPSIM_WEB_MINIFY=0 keeps the names (for a profile of the page).
 import { execFileSync } from "node:child_process";
 import { copyFileSync, mkdirSync } from "node:fs";
 import { dirname, join, resolve } from "node:path";
@@ -21,7 +22,7 @@ execFileSync("protoc", [
 await esbuild.build({
   entryPoints: [join(here, "src", "main.js")],
   bundle: true,
-  minify: true,
+  minify: process.env.HAPSIM_WEB_MINIFY !== "0",
   sourcemap: false,
   format: "iife",
   target: ["chrome110", "firefox110", "safari16"],

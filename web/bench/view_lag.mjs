@@ -9,7 +9,8 @@
 // than the newest state what the instructor sees is. Prints JSON: drawings
 // per second and lag p50/p99/max per phase.
 // Environment as web/test/console.test.mjs, plus HAPSIM_SESSION, and
-// THROTTLE (e.g. "4 10"), PHASE_S.
+// THROTTLE (e.g. "4 10"), PHASE_S; PROFILE=1 adds each phase's top
+// functions by self time (the page's JavaScript profile) to stderr.
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
@@ -41,15 +42,37 @@ const cdp = await page.context().newCDPSession(page);
 async function phase(name, rate) {
   console.error(`phase ${name}`);
   await cdp.send("Emulation.setCPUThrottlingRate", { rate });
+  if (env.PROFILE) {
+    await cdp.send("Profiler.enable");
+    await cdp.send("Profiler.start");
+  }
   const from = await page.evaluate(() => [performance.now(), window.hapsim.connection.handlingMs,
     window.hapsim.connection.messages]);
   await page.waitForTimeout(phaseS * 1000);
   await cdp.send("Emulation.setCPUThrottlingRate", { rate: 1 });  // a throttled page answers slowly
+  if (env.PROFILE) printProfile(name, (await cdp.send("Profiler.stop")).profile);
   const [log, handlingMs, messages] = await page.evaluate(([t0, ms0, n0]) =>
     [window.hapsim.frameLog.filter(([at]) => at >= t0), window.hapsim.connection.handlingMs - ms0,
       window.hapsim.connection.messages - n0], from);
   return { name, rate, log, handlingMs, messages };
 }
+// Self time per function (name, file:line), the top 15, as milliseconds per second of the phase.
+function printProfile(name, profile) {
+  const dt = new Map(profile.nodes.map((n) => [n.id, 0]));
+  for (let i = 0; i < profile.samples.length; ++i) {
+    dt.set(profile.samples[i], dt.get(profile.samples[i]) + (profile.timeDeltas[i] || 0) / 1000);
+  }
+  const self = new Map();
+  for (const n of profile.nodes) {
+    const f = n.callFrame;
+    const key = `${f.functionName || "(anonymous)"} ${f.url.split("/").pop()}:${f.lineNumber + 1}`;
+    self.set(key, (self.get(key) || 0) + dt.get(n.id));
+  }
+  const top = [...self].sort((a, b) => b[1] - a[1]).slice(0, 15);
+  console.error(`profile of ${name} (ms per s):`);
+  for (const [key, ms] of top) console.error(`  ${(ms / phaseS).toFixed(1).padStart(7)}  ${key}`);
+}
+
 const phases = [await phase("unthrottled", 1)];
 for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
 const base = Math.min(...phases[0].log.map(([at, sim]) => at - sim * 1000));

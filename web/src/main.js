@@ -7,6 +7,7 @@ import {ConsoleConnection} from './connection.js';
 import {MeshCache} from './mesh_cache.js';
 import {drawPlot, History} from './sparkline.js';
 import {TileBoard} from './tiles.js';
+import {fillTrialsTable} from './trials_table.js';
 import {View3D} from './view3d.js';
 
 const $ = (id) => document.getElementById(id);
@@ -32,7 +33,7 @@ class ConsolePage {
     this.newEvents = [];  // events of frames applied since the last drawing
     this.frameLog = [];   // [drawn at ms, sim time s, drawing ms] of the newest drawings: how far the view lags
 
-    this.tiles = new TileBoard($('tiles'), (id) => this.open(id));
+    this.tiles = new TileBoard($('tiles'), (id) => this.open(id), (seq) => this.connection?.statusShown(seq));
     $('login').addEventListener('submit', (e) => {
       e.preventDefault();
       this.connect($('token').value, $('class-name').value.trim());
@@ -41,7 +42,8 @@ class ConsolePage {
     for (const b of document.querySelectorAll('#controls button[data-action]')) {
       b.addEventListener('click', () => this.control(b.dataset.action));
     }
-    $('trials').addEventListener('click', () => this.downloadTrials());
+    $('trials').addEventListener('click', () => this.showTrials());
+    $('close-trials').addEventListener('click', () => ($('trials-panel').hidden = true));
     $('push').addEventListener('click', () => this.pushScenario());
   }
 
@@ -92,8 +94,7 @@ class ConsolePage {
 
   onEvent(event) {
     if (event.case === 'classStatus') {
-      this.tiles.update(event.value);
-      this.connection.statusShown(event.value.seq);
+      this.tiles.update(event.value);  // acknowledged once drawn
     } else if (event.case === 'frame') {
       this.onFrame(event.value);
     } else if (event.case === 'ended') {
@@ -187,14 +188,18 @@ class ConsolePage {
     return reply;
   }
 
-  async downloadTrials() {
+  // The class's trials as a table, with the same CSV to download.
+  async showTrials() {
     const reply = await this.connection.call('getTrials', {className: this.className || this.welcome.className});
     if (reply.code !== 0) return this.say(`trials refused: ${reply.message}`);
-    const url = URL.createObjectURL(new Blob([reply.response.value.csv], {type: 'text/csv'}));
-    const a = Object.assign(document.createElement('a'), {href: url, download: 'trials.csv'});
-    a.click();
-    setTimeout(() => URL.revokeObjectURL(url), 1000);
-    this.say(`${reply.response.value.trials} trials downloaded`);
+    const csv = reply.response.value.csv;
+    const rows = fillTrialsTable($('trials-table'), csv);
+    const link = $('trials-csv');
+    if (link.href) URL.revokeObjectURL(link.href);
+    link.href = URL.createObjectURL(new Blob([csv], {type: 'text/csv'}));
+    $('trials-panel').hidden = false;
+    this.say(`${rows} trials`);
+    return reply;
   }
 
   async pushScenario() {

@@ -134,6 +134,79 @@ test("an observer's reset is refused in the page and at the server", async () =>
   await page.close();
 });
 
+const tilePaused = (page, id) => page.$eval(`.tile[data-session="${id}"] .paused`, (e) => !e.hidden);
+const tileSimTime = (page, id) =>
+  page.$eval(`.tile[data-session="${id}"]`, (e) => Number(e.dataset.simTime || 0));
+
+test("the instructor pauses and resumes a trainee from the page", async () => {
+  const page = await login("instructor");
+  const id = sessions[1];
+  await page.waitForSelector(`.tile[data-session="${id}"]`);
+  await page.click(`.tile[data-session="${id}"]`);
+  await page.click("#controls button[data-action=pause]");
+  await page.waitForFunction(() => /pause: done/.test(document.querySelector("#message").textContent));
+  // The server's own class status says paused, and its simulated time stands still.
+  await page.waitForFunction((s) => !document.querySelector(`.tile[data-session="${s}"] .paused`).hidden, id);
+  await page.waitForTimeout(200);
+  const pausedAt = await tileSimTime(page, id);
+  const ticksAt = await tileTicks(page, id);
+  await page.waitForTimeout(600);
+  assert.ok((await tileTicks(page, id)) > ticksAt, "the tiles still update");
+  assert.equal(await tileSimTime(page, id), pausedAt, "a paused session's time stands still");
+  await page.click("#controls button[data-action=resume]");
+  await page.waitForFunction(() => /resume: done/.test(document.querySelector("#message").textContent));
+  await page.waitForFunction(([s, at]) => {
+    const t = document.querySelector(`.tile[data-session="${s}"]`);
+    return t.querySelector(".paused").hidden && Number(t.dataset.simTime) > at;
+  }, [id, pausedAt], { timeout: 10000 });
+  assert.equal(await tilePaused(page, id), false);
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("the trials table lists the class's trials and downloads as the server's CSV", async () => {
+  const page = await login("instructor");
+  await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  await page.click("#trials");
+  await page.waitForSelector("#trials-panel:not([hidden]) #trials-table tr[data-session]");
+  const header = await page.$$eval("#trials-table th", (th) => th.map((e) => e.textContent));
+  assert.deepEqual(header.slice(0, 4), ["session", "trainee", "scene", "trial"]);
+  const rows = await page.$$eval("#trials-table tr[data-session]", (tr) => tr.map((e) => e.dataset.session));
+  for (const id of sessions) assert.ok(rows.includes(id), `a trial row for ${id} (rows: ${rows})`);
+  assert.match(await page.textContent("#message"), new RegExp(`^${rows.length} trials$`));
+  await page.screenshot({ path: join(shots, "console_trials.png") });
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#trials-csv")]);
+  const csv = readFileSync(await download.path(), "utf8");
+  const lines = csv.trim().split("\n");
+  assert.equal(lines.length, rows.length + 1, "one CSV line per table row, plus the header");
+  assert.ok(lines[0].startsWith("session,trainee,scene,trial,"));
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("the instructor pushes a scenario to the class; an observer cannot", async () => {
+  const observer = await login("observer");
+  await observer.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  assert.equal(await observer.isDisabled("#push"), true, "the page offers an observer no push");
+  const refused = await observer.evaluate(() =>
+    window.hapsim.connection.call("pushScenario", { className: "web-101", scene: "tissue_block", params: {} }));
+  assert.equal(refused.code, 7, "PERMISSION_DENIED from the server's access policy");
+  await observer.close();
+
+  const page = await login("instructor");
+  await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  await page.fill("#push-scene", "tissue_block");
+  await page.click("#push");
+  await page.waitForFunction(() => /scenario tissue_block pushed/.test(document.querySelector("#message").textContent),
+    null, { timeout: 20000 });
+  // Every trainee's session is rebuilt with the pushed scene: the tiles say so.
+  await page.waitForFunction((ids) => ids.every((s) =>
+    document.querySelector(`.tile[data-session="${s}"] .scene`).textContent === "tissue_block"), sessions,
+    { timeout: 10000 });
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
 test("the page reconnects after a server restart", async () => {
   const page = await login("instructor");
   await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
