@@ -51,9 +51,10 @@ start_class() {
       --web-listen "127.0.0.1:$web_port" $SERVER_FLAGS >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 100); do grep -q "web console at" server.log && break; sleep 0.1; done
-  taskset -c 1 "$bin/hapsim-load" --sessions "$2" --dds-domain "$domain" --script insertion \
+  taskset -c "${load_core:-1}" "$bin/hapsim-load" --sessions "$2" --dds-domain "$domain" --script insertion \
       --seconds "$1" --server "127.0.0.1:$grpc_port" --tls-ca "$out/certs/ca.pem" \
-      --token-file "$out/class/tokens/instructor.token" --server-stats --json load.json >load.out 2>load.err &
+      --token-file "$out/class/tokens/instructor.token" --server-stats --json load.json ${load_flags:-} \
+      >load.out 2>load.err &
   load=$!; pids+=("$load")
   sleep 2
 }
@@ -100,7 +101,11 @@ PY
 
 if [ -n "$THROTTLE" ]; then
   dir="$out/view-lag" && mkdir -p "$dir" && cd "$dir"
-  start_class 60 t1  # one device: the browser shares core 1 with it, and a laptop is not a load generator
+  # One device, on the server's core: the lag is read against the
+  # session's sim time, which runs with the device's clock, so the device
+  # runs at the nominal rate and does not wait for the CPU behind the
+  # browser (core 1 is the browser's, as a laptop is not a load generator).
+  load_core=0 load_flags="--clock-rate-ppm 0" start_class 60 t1
   spki=$(openssl x509 -in "$out/certs/server.pem" -pubkey -noout | openssl pkey -pubin -outform der |
          openssl dgst -sha256 -binary | base64)
   HAPSIM_WEB_URL="https://127.0.0.1:$web_port/" HAPSIM_WEB_SPKI="$spki" HAPSIM_TOKENS="$out/class/tokens" \

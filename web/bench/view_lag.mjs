@@ -3,11 +3,10 @@
 // console"). Opens a trainee's view in Debian's Chromium, lets it run
 // unthrottled, then slows the page's CPU with the DevTools protocol
 // (Emulation.setCPUThrottlingRate) and keeps watching. A drawing's lag is
-// when it was drawn minus the sim time of the state it shows, less the
-// smallest such difference seen unthrottled (the pipeline's own delay): the
-// session's sim clock runs with the wall clock, so this is how much older
-// than the newest state what the instructor sees is. Prints JSON: drawings
-// per second and lag p50/p99/max per phase.
+// when its JavaScript finished drawing minus when the server encoded the
+// frame it shows (the frame's sent_unix_s; server and browser share this
+// machine's clock). Prints JSON: drawings per second and lag p50/p99/max
+// per phase, the drawing's own time, and the page's messages.
 // Environment as web/test/console.test.mjs, plus HAPSIM_SESSION, and
 // THROTTLE (e.g. "4 10"), PHASE_S; PROFILE=1 adds each phase's top
 // functions by self time (the page's JavaScript profile) to stderr.
@@ -46,7 +45,7 @@ async function phase(name, rate) {
     await cdp.send("Profiler.enable");
     await cdp.send("Profiler.start");
   }
-  const from = await page.evaluate(() => [performance.now(), window.hapsim.connection.handlingMs,
+  const from = await page.evaluate(() => [performance.timeOrigin + performance.now(), window.hapsim.connection.handlingMs,
     window.hapsim.connection.messages]);
   await page.waitForTimeout(phaseS * 1000);
   await cdp.send("Emulation.setCPUThrottlingRate", { rate: 1 });  // a throttled page answers slowly
@@ -75,11 +74,13 @@ function printProfile(name, profile) {
 
 const phases = [await phase("unthrottled", 1)];
 for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
-const base = Math.min(...phases[0].log.map(([at, sim]) => at - sim * 1000));
 const pct = (sorted, q) => sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
 const out = phases.map(({ name, rate, log, handlingMs, messages }) => {
-  const lags = log.map(([at, sim]) => at - sim * 1000 - base).sort((a, b) => a - b);
-  const draws = log.map(([, , ms]) => ms).sort((a, b) => a - b);
+  const lags = log.map(([at, sent]) => at - sent).sort((a, b) => a - b);
+  const draws = log.map(([, , , ms]) => ms).sort((a, b) => a - b);
+  // LAG_SERIES=1: every drawing as [lag, ms since the previous drawing, drawing ms], to stderr.
+  if (env.LAG_SERIES) console.error(name, JSON.stringify(log.map(([at, sent, , ms], i) =>
+    [Math.round(at - sent), Math.round(i ? at - log[i - 1][0] : 0), Math.round(ms)])));
   return { name, rate, drawings: log.length, fps: log.length / phaseS, lag_ms_p50: pct(lags, 0.5),
     lag_ms_p99: pct(lags, 0.99), lag_ms_max: lags[lags.length - 1], draw_ms_p50: pct(draws, 0.5),
     draw_ms_p99: pct(draws, 0.99), messages_per_s: messages / phaseS, ms_per_message: handlingMs / messages };

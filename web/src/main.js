@@ -31,7 +31,9 @@ class ConsolePage {
     this.framesApplied = 0;
     this.plotsDrawnAt = -1e9;
     this.newEvents = [];  // events of frames applied since the last drawing
-    this.frameLog = [];   // [drawn at ms, sim time s, drawing ms] of the newest drawings: how far the view lags
+    // The newest drawings: [drawn at, the frame's server send time (both ms
+    // since the Unix epoch), sim time s, drawing ms]: how far the view lags.
+    this.frameLog = [];
 
     this.tiles = new TileBoard($('tiles'), (id) => this.open(id), (seq) => this.connection?.statusShown(seq));
     $('login').addEventListener('submit', (e) => {
@@ -157,7 +159,7 @@ class ConsolePage {
     this.newEvents = [];
     const t = frame.simTimeS;
     if (start - this.plotsDrawnAt < 100) {  // plots and text at 10 Hz: enough to read, cheap on a slow tab
-      this.logDrawing(start, t);
+      this.logDrawing(start, frame);
       return;
     }
     this.plotsDrawnAt = start;
@@ -170,11 +172,12 @@ class ConsolePage {
         `t ${t.toFixed(2)} s · depth ${(frame.tipDepthM * 1e3).toFixed(2)} mm · layer ${layer} · ` +
         `force ${frame.peakForceN.toFixed(3)} N · ${frame.tool ? frame.tool.contactState : 'no tool'}` +
         (frame.paused ? ' · paused' : '');
-    this.logDrawing(start, t);
+    this.logDrawing(start, frame);
   }
 
-  logDrawing(start, simTimeS) {
-    this.frameLog.push([performance.now(), simTimeS, performance.now() - start]);
+  logDrawing(start, frame) {
+    const now = performance.now();
+    this.frameLog.push([performance.timeOrigin + now, frame.sentUnixS * 1e3, frame.simTimeS, now - start]);
     if (this.frameLog.length > 4096) this.frameLog.splice(0, 2048);
   }
 

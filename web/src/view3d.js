@@ -44,6 +44,15 @@ export class View3D {
     this.positions = null;
     this.extent = 0.05;
     this.tip = null;
+    // The canvas's size comes from a ResizeObserver, not read per drawing:
+    // reading clientWidth would force a layout, and setting the canvas
+    // size, even unchanged, reallocates WebGL's drawing buffer.
+    this.size = null;
+    this.drawnSize = null;
+    new ResizeObserver(([entry]) => {
+      const box = entry.contentRect;
+      this.size = {width: Math.round(box.width), height: Math.round(box.height)};
+    }).observe(canvas);
   }
 
   // A new trainee or a new keyframe: clear the markers, frame the mesh.
@@ -123,10 +132,11 @@ export class View3D {
   }
 
   resize() {
-    const w = this.canvas.clientWidth, h = this.canvas.clientHeight;
-    if (w === 0 || h === 0) return;
-    this.renderer.setSize(w, h, false);
-    this.camera.aspect = w / h;
+    const size = this.size;
+    if (!size || size.width === 0 || size.height === 0 || size === this.drawnSize) return;
+    this.drawnSize = size;
+    this.renderer.setSize(size.width, size.height, false);
+    this.camera.aspect = size.width / size.height;
     this.camera.updateProjectionMatrix();
   }
 

@@ -1,6 +1,7 @@
 #include "hapsim/streaming/viewer_link.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace hapsim::service {
@@ -31,6 +32,7 @@ ViewerLink::OfferResult ViewerLink::Offer(const std::shared_ptr<const SceneSnaps
   if (now_ns - last_send_ns_ < min_interval_ns_) return OfferResult::kRateLimited;
   sent_ns_[encoder_.next_seq % kMaxFramesInFlight] = now_ns;
   EncodeFrame(*snapshot, history, &encoder_, &frame_);
+  frame_.set_sent_unix_s(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
   last_snapshot_id_ = snapshot->id;
   last_send_ns_ = now_ns;
   write_in_flight_ = true;
