@@ -115,8 +115,16 @@ class ConsolePage {
     this.forceDepth.clear();
     $('detail').hidden = false;
     $('detail-title').textContent = sessionId;
-    if (!this.view) this.view = new View3D($('view3d'));
-    this.view.reset();
+    if (!this.view && !this.noWebGl) {
+      try {
+        this.view = new View3D($('view3d'));
+      } catch (e) {  // no WebGL here (switched off, or no driver): tiles, plots and controls still work
+        this.noWebGl = true;
+        $('view3d').hidden = true;
+        this.say(`no 3D view in this browser (${e.message}); the plots and controls work`);
+      }
+    }
+    if (this.view) this.view.reset();
     this.connection.openView(sessionId);
   }
 
@@ -155,7 +163,7 @@ class ConsolePage {
     const frame = this.newestFrame;
     if (!frame || !this.openSession) return;
     const start = performance.now();
-    this.view.update(this.cache, frame.tool, this.newEvents);
+    if (this.view) this.view.update(this.cache, frame.tool, this.newEvents);
     this.newEvents = [];
     const t = frame.simTimeS;
     if (start - this.plotsDrawnAt < 100) {  // plots and text at 10 Hz: enough to read, cheap on a slow tab

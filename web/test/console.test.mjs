@@ -22,21 +22,22 @@ const shots = process.env.HAPSIM_SHOTS || ".";
 const token = (who) => readFileSync(join(tokens, `${who}.token`), "utf8").trim();
 let browser;
 
+const launch = (extraArgs) => chromium.launch({
+  executablePath: process.env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
+  args: [
+    "--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync",
+    `--ignore-certificate-errors-spki-list=${process.env.HAPSIM_WEB_SPKI}`, ...extraArgs,
+  ],
+});
+
 before(async () => {
-  browser = await chromium.launch({
-    executablePath: process.env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
-    args: [
-      "--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync",
-      `--ignore-certificate-errors-spki-list=${process.env.HAPSIM_WEB_SPKI}`,
-      "--use-angle=swiftshader", "--enable-unsafe-swiftshader",  // WebGL without a GPU
-    ],
-  });
+  browser = await launch(["--use-angle=swiftshader", "--enable-unsafe-swiftshader"]);  // WebGL without a GPU
 });
 after(async () => browser && (await browser.close()));
 
-async function login(who, viewport = { width: 1366, height: 768 }) {
-  const page = await browser.newPage({ viewport });
+async function login(who, viewport = { width: 1366, height: 768 }, inBrowser = browser) {
+  const page = await inBrowser.newPage({ viewport });
   const errors = [];
   page.on("pageerror", (e) => errors.push(e.message));
   page.errors = errors;
@@ -120,6 +121,31 @@ test("opening a trainee draws the tissue, and the needle where the tool pose pro
   assert.ok(sample.blue >= 6, `the needle is drawn where its pose projects (${sample.blue} blue pixels)`);
   assert.deepEqual(page.errors, []);
   await page.close();
+});
+
+test("without WebGL the page says so, and plots and controls still work", async () => {
+  const noGl = await launch(["--disable-webgl", "--disable-3d-apis"]);
+  try {
+    const page = await login("instructor", undefined, noGl);
+    await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+    await page.click(`.tile[data-session="${sessions[0]}"]`);
+    await page.waitForFunction(() => window.hapsim.framesApplied > 30, null, { timeout: 10000 });
+    assert.match(await page.textContent("#message"), /no 3D view in this browser/);
+    assert.equal(await page.isHidden("#view3d"), true);
+    await page.waitForTimeout(300);  // plots are drawn at 10 Hz
+    const ink = await page.evaluate(() => {
+      const c = document.getElementById("plot-time");
+      const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+      let n = 0;
+      for (let i = 3; i < d.length; i += 4) n += d[i] > 0 ? 1 : 0;
+      return n;
+    });
+    assert.ok(ink > 200, `the force-time plot is drawn (${ink} pixels)`);
+    assert.equal(await page.isDisabled("#controls button[data-action=pause]"), false);
+    assert.deepEqual(page.errors, []);
+  } finally {
+    await noGl.close();
+  }
 });
 
 test("an observer's reset is refused in the page and at the server", async () => {
