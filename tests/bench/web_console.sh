@@ -116,6 +116,9 @@ import json, sys
 cols = ["name", "fps", "lag_ms_p50", "lag_ms_p99", "lag_ms_max", "draw_ms_p50", "messages_per_s", "ms_per_message"]
 print("browser view of t1: " + " ".join(cols))
 for p in json.load(open(sys.argv[1])):
+    if p.get("no_answer"):
+        print(f"  {p['name']}: the page stopped answering the DevTools protocol")
+        continue
     print("  " + " ".join(p[c] if isinstance(p[c], str) else f"{p[c]:.1f}" for c in cols))
 PY
 fi

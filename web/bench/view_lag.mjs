@@ -17,9 +17,14 @@ import { chromium } from "playwright-core";
 const env = process.env;
 const phaseS = Number(env.PHASE_S || 8);
 const rates = (env.THROTTLE || "4 10").split(" ").map(Number);
-// A page throttled past what this machine can serve may stop answering: give up, loudly.
+// A page throttled past what this machine can serve may stop answering the
+// DevTools protocol: then the phases done so far are printed, and that one
+// is named as not answering.
+const phases = [];
+let current = null;
 setTimeout(() => {
-  console.error("view_lag: no answer from the page in time");
+  console.error(`view_lag: no answer from the page in time (${current})`);
+  console.log(JSON.stringify(summary().concat([{ name: current, no_answer: true }])));
   process.exit(1);
 }, (rates.length + 1) * phaseS * 1000 + 90000).unref();
 const browser = await chromium.launch({
@@ -40,6 +45,7 @@ const cdp = await page.context().newCDPSession(page);
 
 async function phase(name, rate) {
   console.error(`phase ${name}`);
+  current = name;
   await cdp.send("Emulation.setCPUThrottlingRate", { rate });
   if (env.PROFILE) {
     await cdp.send("Profiler.enable");
@@ -72,18 +78,22 @@ function printProfile(name, profile) {
   for (const [key, ms] of top) console.error(`  ${(ms / phaseS).toFixed(1).padStart(7)}  ${key}`);
 }
 
-const phases = [await phase("unthrottled", 1)];
-for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
 const pct = (sorted, q) => sorted[Math.min(sorted.length - 1, Math.floor(q * sorted.length))];
-const out = phases.map(({ name, rate, log, handlingMs, messages }) => {
-  const lags = log.map(([at, sent]) => at - sent).sort((a, b) => a - b);
-  const draws = log.map(([, , , ms]) => ms).sort((a, b) => a - b);
-  // LAG_SERIES=1: every drawing as [lag, ms since the previous drawing, drawing ms], to stderr.
-  if (env.LAG_SERIES) console.error(name, JSON.stringify(log.map(([at, sent, , ms], i) =>
-    [Math.round(at - sent), Math.round(i ? at - log[i - 1][0] : 0), Math.round(ms)])));
-  return { name, rate, drawings: log.length, fps: log.length / phaseS, lag_ms_p50: pct(lags, 0.5),
-    lag_ms_p99: pct(lags, 0.99), lag_ms_max: lags[lags.length - 1], draw_ms_p50: pct(draws, 0.5),
-    draw_ms_p99: pct(draws, 0.99), messages_per_s: messages / phaseS, ms_per_message: handlingMs / messages };
-});
+function summary() {
+  return phases.map(({ name, rate, log, handlingMs, messages }) => {
+    const lags = log.map(([at, sent]) => at - sent).sort((a, b) => a - b);
+    const draws = log.map(([, , , ms]) => ms).sort((a, b) => a - b);
+    // LAG_SERIES=1: every drawing as [lag, ms since the previous drawing, drawing ms], to stderr.
+    if (env.LAG_SERIES) console.error(name, JSON.stringify(log.map(([at, sent, , ms], i) =>
+      [Math.round(at - sent), Math.round(i ? at - log[i - 1][0] : 0), Math.round(ms)])));
+    return { name, rate, drawings: log.length, fps: log.length / phaseS, lag_ms_p50: pct(lags, 0.5),
+      lag_ms_p99: pct(lags, 0.99), lag_ms_max: lags[lags.length - 1], draw_ms_p50: pct(draws, 0.5),
+      draw_ms_p99: pct(draws, 0.99), messages_per_s: messages / phaseS, ms_per_message: handlingMs / messages };
+  });
+}
+
+phases.push(await phase("unthrottled", 1));
+for (const r of rates) phases.push(await phase(`throttled ${r}x`, r));
+const out = summary();
 console.log(JSON.stringify(out));
 await browser.close();
