@@ -309,7 +309,14 @@ void ConsoleSession::Refuse(grpc::StatusCode code, const std::string& message) {
   std::lock_guard lock(mutex_);
   const std::shared_ptr<ConsoleTransport> transport = transport_;
   OnClosed();
-  if (transport) transport->Send(std::move(bytes), [transport](bool) { transport->Close(); });
+  // Weak: the transport keeps this callback until the refusal is written,
+  // and a strong copy would keep the transport alive if that never happens
+  // (the server stopping mid-write).
+  if (transport) {
+    transport->Send(std::move(bytes), [weak = std::weak_ptr<ConsoleTransport>(transport)](bool) {
+      if (const auto t = weak.lock()) t->Close();
+    });
+  }
 }
 
 void ConsoleSession::OnClosed() {
