@@ -101,10 +101,9 @@ PY
 
 if [ -n "$THROTTLE" ]; then
   dir="$out/view-lag" && mkdir -p "$dir" && cd "$dir"
-  # One device, on the server's core: the lag is read against the
-  # session's sim time, which runs with the device's clock, so the device
-  # runs at the nominal rate and does not wait for the CPU behind the
-  # browser (core 1 is the browser's, as a laptop is not a load generator).
+  # One device, on the server's core at the nominal rate: core 1 is the
+  # browser's alone, as a laptop is not a load generator. (The lag is read
+  # against each frame's server send time, so no device clock enters it.)
   load_core=0 load_flags="--clock-rate-ppm 0" start_class 60 t1
   spki=$(openssl x509 -in "$out/certs/server.pem" -pubkey -noout | openssl pkey -pubin -outform der |
          openssl dgst -sha256 -binary | base64)

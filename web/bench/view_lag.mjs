@@ -82,9 +82,9 @@ const pct = (sorted, q) => sorted[Math.min(sorted.length - 1, Math.floor(q * sor
 function summary() {
   return phases.map(({ name, rate, log, handlingMs, messages }) => {
     const lags = log.map(([at, sent]) => at - sent).sort((a, b) => a - b);
-    const draws = log.map(([, , , ms]) => ms).sort((a, b) => a - b);
+    const draws = log.map(([, , ms]) => ms).sort((a, b) => a - b);
     // LAG_SERIES=1: every drawing as [lag, ms since the previous drawing, drawing ms], to stderr.
-    if (env.LAG_SERIES) console.error(name, JSON.stringify(log.map(([at, sent, , ms], i) =>
+    if (env.LAG_SERIES) console.error(name, JSON.stringify(log.map(([at, sent, ms], i) =>
       [Math.round(at - sent), Math.round(i ? at - log[i - 1][0] : 0), Math.round(ms)])));
     return { name, rate, drawings: log.length, fps: log.length / phaseS, lag_ms_p50: pct(lags, 0.5),
       lag_ms_p99: pct(lags, 0.99), lag_ms_max: lags[lags.length - 1], draw_ms_p50: pct(draws, 0.5),

@@ -32,7 +32,7 @@ class ConsolePage {
     this.plotsDrawnAt = -1e9;
     this.newEvents = [];  // events of frames applied since the last drawing
     // The newest drawings: [drawn at, the frame's server send time (both ms
-    // since the Unix epoch), sim time s, drawing ms]: how far the view lags.
+    // since the Unix epoch), drawing ms]: how far the view lags.
     this.frameLog = [];
 
     this.tiles = new TileBoard($('tiles'), (id) => this.open(id), (seq) => this.connection?.statusShown(seq));
@@ -185,7 +185,7 @@ class ConsolePage {
 
   logDrawing(start, frame) {
     const now = performance.now();
-    this.frameLog.push([performance.timeOrigin + now, frame.sentUnixS * 1e3, frame.simTimeS, now - start]);
+    this.frameLog.push([performance.timeOrigin + now, frame.sentUnixS * 1e3, now - start]);
     if (this.frameLog.length > 4096) this.frameLog.splice(0, 2048);
   }
 
