@@ -23,7 +23,7 @@ class SessionStatus:
     layer_name: str
     force_n: float              # |force of the tissue on the tool| [N]
     contact_state: str          # free | contact | punctured | cutting
-    events: List[Event]         # since this stream's previous update
+    events: List[Event]         # since this stream's previous update (its first: the newest 4)
     late_ticks: int
     max_tick_lateness_s: float  # [s]
     device_streaming: bool      # a pose arrived within the pose timeout
@@ -33,6 +33,7 @@ class SessionStatus:
     ticks: int
     peak_tool_force_n: float    # [N]
     viewers: int
+    events_total: int           # events the session has logged since it was created
 
     @staticmethod
     def from_proto(s: "session_pb2.SessionStatus") -> "SessionStatus":
@@ -42,7 +43,7 @@ class SessionStatus:
             contact_state=s.contact_state, events=[Event.from_proto(e) for e in s.events], late_ticks=s.late_ticks,
             max_tick_lateness_s=s.max_tick_lateness_s, device_streaming=s.device_streaming, paused=s.paused,
             experts=s.experts, score=s.score if s.experts > 0 else None, ticks=s.ticks,
-            peak_tool_force_n=s.peak_tool_force_n, viewers=s.viewers)
+            peak_tool_force_n=s.peak_tool_force_n, viewers=s.viewers, events_total=s.events_total)
 
 
 @dataclass(frozen=True)

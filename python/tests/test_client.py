@@ -360,20 +360,33 @@ class ClassroomOverTls(unittest.TestCase):
         # A 12 mm insertion into t1 (2 mm past the class's 10 mm target), watched live.
         device = bridge("class-bridge", "t1", self.domain, 3.0, "--script", "insertion", "--depth-mm", "12",
                         "--speed-mm-s", "20", "--hold-s", "0.3")
-        deepest_m, streaming, events = 0.0, False, []
-        for update in self.instructor.watch_class("acu-101", rate_hz=20, seconds=8.0):
+        deepest_m, streaming, events, events_total = 0.0, False, [], 0
+        quiet_since = None  # after the device's end: since when t1 logged nothing new
+        for update in self.instructor.watch_class("acu-101", rate_hz=20, seconds=12.0):
             self.assertEqual(update.class_name, "acu-101")
             self.assertEqual([s.session_id for s in update.sessions], ["t1", "t2"])
             t1 = update.sessions[0]
             deepest_m = max(deepest_m, t1.tip_depth_m)
             streaming = streaming or t1.device_streaming
-            events += [e.kind for e in t1.events]
-            if device.poll() is not None:
+            if update.seq == 0:
+                events_before = t1.events_total - len(t1.events)
+            events += t1.events
+            if device.poll() is not None and (quiet_since is None or t1.events_total != events_total):
+                quiet_since = time.monotonic()
+            events_total = t1.events_total
+            if quiet_since is not None and time.monotonic() - quiet_since > 1.0:
                 break
         self.assertEqual(device.wait(timeout=10), 0)
         self.assertTrue(streaming, "the class view saw t1's device streaming")
         self.assertGreater(deepest_m, 5e-3, "the class view saw the needle deeper than 5 mm")
-        self.assertIn("puncture", events)
+        self.assertIn("puncture", [e.kind for e in events])
+        # Every event logged while the stream watched came once, in order.
+        self.assertEqual(events_before + len(events), events_total)
+        self.assertEqual([e.t_s for e in events], sorted(e.t_s for e in events))
+        # A stream opened now starts with t1's newest 4 events and its total.
+        late = next(iter(self.instructor.watch_class("acu-101", rate_hz=20, max_updates=1))).sessions[0]
+        self.assertEqual(late.events_total, events_total)
+        self.assertEqual(late.events, events[-4:])
 
         self.instructor.reset_session("t1")  # ends t1's trial 0
         rows: List[hapsim.TrialRow] = []

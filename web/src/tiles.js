@@ -18,7 +18,7 @@ export class TileBoard {
     this.root = root;
     this.onOpen = onOpen;
     this.onShown = onShown;
-    this.tiles = new Map();  // session id -> { element, fields, history, events, onScreen }
+    this.tiles = new Map();  // session id -> { element, fields, history, lastEvent, onScreen }
     this.waiting = null;     // the newest status not yet drawn
     this.onScreen = new IntersectionObserver((entries) => {
       for (const e of entries) {
@@ -48,7 +48,6 @@ export class TileBoard {
       seen.add(s.sessionId);
       const tile = this.tiles.get(s.sessionId) || this.create(s.sessionId);
       tile.history.add(s.simTimeS, s.forceN);
-      tile.events += s.events.length;
       if (s.events.length) tile.lastEvent = s.events[s.events.length - 1].kind;
       const f = tile.fields;
       setText(f.trainee, s.trainee || s.sessionId);
@@ -60,7 +59,7 @@ export class TileBoard {
       setText(f.force, `${s.forceN.toFixed(2)} N`);
       setText(f.peak, `peak ${s.peakToolForceN.toFixed(2)} N`);
       setText(f.late, `${s.lateTicks} late`);
-      setText(f.events, `${tile.events} events${tile.lastEvent ? ` · ${tile.lastEvent}` : ''}`);
+      setText(f.events, `${s.eventsTotal} events${tile.lastEvent ? ` · ${tile.lastEvent}` : ''}`);
       setText(f.score, s.experts > 0 ? `score ${s.score.toFixed(1)}` : '');
       if (f.paused.hidden === s.paused) f.paused.hidden = !s.paused;
       tile.element.dataset.ticks = String(s.ticks);
@@ -86,7 +85,7 @@ export class TileBoard {
     fields.spark = Object.assign(document.createElement('canvas'), {className: 'spark', width: 160, height: 36});
     element.append(fields.paused, fields.spark);
     element.addEventListener('click', () => this.onOpen(id));
-    const tile = {element, fields, history: new History(100), events: 0, lastEvent: '', onScreen: true};
+    const tile = {element, fields, history: new History(100), lastEvent: '', onScreen: true};
     this.tiles.set(id, tile);
     this.onScreen.observe(element);
     const after = [...this.tiles.keys()].sort();

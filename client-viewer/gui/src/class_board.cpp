@@ -35,7 +35,6 @@ void ClassBoard::Apply(const hapsim::v1::ClassStatus& status) {
     SessionTile& tile = tiles_[s.session_id()];
     tile.status = s;
     for (const auto& e : s.events()) {
-      ++tile.events;
       char item[64];
       std::snprintf(item, sizeof item, "%s@%.2fs", e.kind().c_str(), e.t_s());
       tile.recent_events.push_back(item);

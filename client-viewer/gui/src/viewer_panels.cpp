@@ -233,7 +233,7 @@ bool DrawSessionTile(const SessionTile& tile, bool selected, float tile_w, Sessi
   ImGui::PlotLines("##force", history.data(), static_cast<int>(history.size()), 0, nullptr, 0.0f, 1.1f * top,
                    ImVec2(tile_w - 16.0f, 34.0f));
   ImGui::Text("late %llu  events %llu", static_cast<unsigned long long>(s.late_ticks()),
-              static_cast<unsigned long long>(tile.events));
+              static_cast<unsigned long long>(s.events_total()));
   if (!tile.recent_events.empty()) {
     ImGui::SameLine();
     ImGui::TextDisabled("%s", tile.recent_events.back().c_str());

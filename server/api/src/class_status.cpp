@@ -2,11 +2,12 @@
 
 #include <algorithm>
 
-#include "hapsim/streaming/frame_encoder.h"
+#include "hapsim/api/class_status_events.h"
 
 namespace hapsim::service {
 
-void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsim::v1::SessionStatus* out) {
+void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsim::v1::SessionStatus* out,
+                                  std::vector<PendingEvents>* pending) {
   const auto& c = session->counters();
   out->set_session_id(session->id());
   out->set_trainee(session->config().owner);
@@ -23,9 +24,7 @@ void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsi
     out->set_experts(score->experts);
     out->set_score(score->score);
   }
-  Cursor& cursor = cursors_[session->id()];
-  if (cursor.session != session) cursor = Cursor{session, 0};
-  const auto snap = hub_->LatestSnapshot(*session);
+  auto snap = hub_->LatestSnapshot(*session);
   if (!snap) {
     out->set_current_layer(-1);
     out->set_contact_state("free");
@@ -39,29 +38,35 @@ void ClassStatusBuilder::Describe(const std::shared_ptr<Session>& session, hapsi
   }
   out->set_force_n(snap->tool_force_W_N.norm());
   out->set_contact_state(core::ToString(snap->contact));
-  // The events logged since this stream's previous status (as many as the
-  // snapshot still holds; a stream polling at >= 1 Hz misses none in practice).
-  cursor.events_sent = AppendEventsSince(*snap, cursor.events_sent, out->mutable_events());
+  out->set_events_total(snap->events_total);
+  Cursor& cursor = cursors_[session->id()];
+  if (cursor.session != session) cursor = Cursor{session, FirstEventToSend(snap->events_total)};
+  pending->push_back({out, snap.get(), &cursor.events_sent});
+  held_snapshots_.push_back(std::move(snap));
 }
 
 void ClassStatusBuilder::Fill(const std::vector<std::string>* session_ids, hapsim::v1::ClassStatus* out) {
   out->set_seq(seq_++);
   const auto table = registry_->Table();
+  std::vector<PendingEvents> pending;
+  held_snapshots_.clear();
   if (!session_ids) {
-    for (const auto& [id, session] : *table) Describe(session, out->add_sessions());
-    return;
-  }
-  std::vector<std::string> ids = *session_ids;
-  std::sort(ids.begin(), ids.end());
-  for (const auto& id : ids) {
-    const auto found = table->find(id);
-    if (found == table->end()) {
-      out->add_missing_sessions(id);
-      cursors_.erase(id);
-    } else {
-      Describe(found->second, out->add_sessions());
+    for (const auto& [id, session] : *table) Describe(session, out->add_sessions(), &pending);
+  } else {
+    std::vector<std::string> ids = *session_ids;
+    std::sort(ids.begin(), ids.end());
+    for (const auto& id : ids) {
+      const auto found = table->find(id);
+      if (found == table->end()) {
+        out->add_missing_sessions(id);
+        cursors_.erase(id);
+      } else {
+        Describe(found->second, out->add_sessions(), &pending);
+      }
     }
   }
+  AddEventsWithinBudget(pending, ClassStatusBudgetBytes(static_cast<std::size_t>(out->sessions_size())), out);
+  held_snapshots_.clear();
 }
 
 }  // namespace hapsim::service

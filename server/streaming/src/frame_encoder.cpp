@@ -27,18 +27,20 @@ void FillCommon(const SceneSnapshot& s, hapsim::v1::Frame* frame) {
 
 }  // namespace
 
+void EncodeEvent(const core::SceneEvent& e, hapsim::v1::SceneEvent* out) {
+  out->set_t_s(e.t_s);
+  out->set_kind(core::ToString(e.kind));
+  out->set_layer(e.layer);
+  for (int k = 0; k < 3; ++k) out->add_where_m(e.where_W_m[k]);
+  out->set_value(e.value);
+}
+
 std::uint64_t AppendEventsSince(const SceneSnapshot& s, std::uint64_t events_sent,
                                 google::protobuf::RepeatedPtrField<hapsim::v1::SceneEvent>* out) {
   const std::uint64_t unsent = s.events_total > events_sent ? s.events_total - events_sent : 0;
   const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(unsent, s.recent_events.size()));
   for (std::size_t i = s.recent_events.size() - n; i < s.recent_events.size(); ++i) {
-    const core::SceneEvent& e = s.recent_events[i];
-    auto* event = out->Add();
-    event->set_t_s(e.t_s);
-    event->set_kind(core::ToString(e.kind));
-    event->set_layer(e.layer);
-    for (int k = 0; k < 3; ++k) event->add_where_m(e.where_W_m[k]);
-    event->set_value(e.value);
+    EncodeEvent(s.recent_events[i], out->Add());
   }
   return s.events_total;
 }

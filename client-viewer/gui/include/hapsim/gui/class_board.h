@@ -20,7 +20,6 @@ namespace hapsim::gui {
 struct SessionTile {
   hapsim::v1::SessionStatus status;  // newest (its events: those of the newest update only)
   std::deque<std::string> recent_events;  // "puncture@4.03s", newest last, at most 4
-  std::uint64_t events = 0;               // seen on this stream
   std::deque<float> force_history_N;      // newest last, at most kHistory
 };
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "hapsim/api/class_status_events.h"
 #include "hapsim/classroom/score_book.h"
 #include "hapsim/runtime/session_registry.h"
 #include "hapsim/streaming/viewer_hub.h"
@@ -23,11 +24,14 @@ class ClassStatusBuilder {
 
   // `session_ids`: the class's sessions (nullptr: every session of the
   // server). Sessions of the class that do not run now are listed in
-  // missing_sessions. Events are those since this builder's previous Fill.
+  // missing_sessions. Events are those since this builder's previous Fill,
+  // as many as the status's byte budget takes (class_status_events.h).
   void Fill(const std::vector<std::string>* session_ids, hapsim::v1::ClassStatus* out);
 
  private:
-  void Describe(const std::shared_ptr<Session>& session, hapsim::v1::SessionStatus* out);
+  // Everything but the events; the session's unsent events go to *pending.
+  void Describe(const std::shared_ptr<Session>& session, hapsim::v1::SessionStatus* out,
+                std::vector<PendingEvents>* pending);
 
   const SessionRegistry* registry_;
   const ViewerHub* hub_;
@@ -38,6 +42,7 @@ class ClassStatusBuilder {
     std::uint64_t events_sent = 0;
   };
   std::map<std::string, Cursor> cursors_;
+  std::vector<std::shared_ptr<const SceneSnapshot>> held_snapshots_;  // during a Fill
 };
 
 }  // namespace hapsim::service

@@ -38,14 +38,17 @@ inline std::int32_t QuantiseCoordinate(double x_m, double quantum_m) {
   return static_cast<std::int32_t>(q);
 }
 
-// Fills *frame (cleared first) and advances *state. `history` must have
-// absorbed the snapshot (it ends at or after snapshot.topology_version).
+// One scene event as the wire has it.
+void EncodeEvent(const core::SceneEvent& event, hapsim::v1::SceneEvent* out);
+
 // Appends the snapshot's events after the first `events_sent` the stream has
 // already sent (as many as the snapshot still holds) and returns the new
-// count sent. Shared by viewer frames and the class view's statuses.
+// count sent (a viewer stream's frames).
 std::uint64_t AppendEventsSince(const SceneSnapshot& snapshot, std::uint64_t events_sent,
                                 google::protobuf::RepeatedPtrField<hapsim::v1::SceneEvent>* out);
 
+// Fills *frame (cleared first) and advances *state. `history` must have
+// absorbed the snapshot (it ends at or after snapshot.topology_version).
 void EncodeFrame(const SceneSnapshot& snapshot, const TopologyHistory& history, StreamEncoderState* state,
                  hapsim::v1::Frame* frame);
 
