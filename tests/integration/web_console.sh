@@ -4,8 +4,10 @@
 # hapsim-load, served to Debian's Chromium by hapsim-server --web-listen, and
 # checked by web/test/console.test.mjs (playwright-core): a garbage token is
 # refused, every tile appears and updates, a trainee's 3D view draws the
-# needle where the tool pose projects, an observer's reset is refused in the
-# page and at the server, and the page reconnects after a server restart.
+# needle where the tool pose projects, on an emulated tablet a tap opens a
+# trainee and touch turns and zooms the view, an observer's reset is refused
+# in the page and at the server, and the page reconnects after a server
+# restart (and more: web/test/console.test.mjs).
 # Chromium trusts exactly the server's certificate (its SPKI hash).
 # Bounded (about 40 s); everything on 127.0.0.1.
 set -euo pipefail

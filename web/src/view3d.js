@@ -1,8 +1,11 @@
 // The 3D view of one trainee: the tissue mesh from the MeshCache, the tool
 // (its +z runs from the tip to the handle, as in the scenes), the force of
 // the tissue on the tool as an arrow, and a marker at every puncture or
-// cut event. z is up, as in the native viewer.
+// cut event. z is up, as in the native viewer. Drag to turn the view around
+// the tissue, wheel or pinch to zoom, right-drag or two fingers to pan (a
+// mouse, a touch screen or a pen alike: OrbitControls reads pointer events).
 import * as THREE from 'three';
+import {OrbitControls} from 'three/examples/jsm/controls/OrbitControls.js';
 
 const TISSUE_COLOR = 0xe8a890;
 const MARKER_COLORS = {
@@ -41,6 +44,10 @@ export class View3D {
     this.scene.add(this.arrow);
     this.markers = new THREE.Group();
     this.scene.add(this.markers);
+    this.controls = new OrbitControls(this.camera, canvas);
+    // Between frames (a paused trainee) a turn of the view still redraws.
+    this.controls.addEventListener('change', () => this.requestRender());
+    this.renderPending = false;
     this.positions = null;
     this.extent = 0.05;
     this.tip = null;
@@ -94,6 +101,10 @@ export class View3D {
     this.camera.far = sphere.radius * 50;
     this.camera.lookAt(c);
     this.camera.updateProjectionMatrix();
+    this.controls.target.copy(c);
+    this.controls.minDistance = 0.2 * sphere.radius;
+    this.controls.maxDistance = 20 * sphere.radius;
+    this.controls.update();
     this.framed = true;
   }
 
@@ -138,6 +149,15 @@ export class View3D {
     this.renderer.setSize(size.width, size.height, false);
     this.camera.aspect = size.width / size.height;
     this.camera.updateProjectionMatrix();
+  }
+
+  requestRender() {
+    if (this.renderPending) return;
+    this.renderPending = true;
+    requestAnimationFrame(() => {
+      this.renderPending = false;
+      this.render();
+    });
   }
 
   render() {

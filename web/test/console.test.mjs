@@ -148,6 +148,72 @@ test("without WebGL the page says so, and plots and controls still work", async 
   }
 });
 
+// The camera about the view's target: azimuth around z (up) [rad] and distance [m].
+const orbit = (page) => page.evaluate(() => {
+  const v = window.hapsim.view;
+  const d = v.camera.position.clone().sub(v.controls.target);
+  return { azimuth: Math.atan2(d.y, d.x), distance: d.length(), height: v.canvas.clientHeight };
+});
+
+// A touch gesture as the screen reports it: each finger from its start to
+// its end point in `steps` moves (CSS pixels).
+async function touchGesture(cdp, fingers, steps = 10) {
+  const at = (k) => fingers.map(([[x0, y0], [x1, y1]], id) =>
+    ({ x: x0 + ((x1 - x0) * k) / steps, y: y0 + ((y1 - y0) * k) / steps, id }));
+  await cdp.send("Input.dispatchTouchEvent", { type: "touchStart", touchPoints: at(0) });
+  for (let k = 1; k <= steps; ++k) await cdp.send("Input.dispatchTouchEvent", { type: "touchMove", touchPoints: at(k) });
+  await cdp.send("Input.dispatchTouchEvent", { type: "touchEnd", touchPoints: [] });
+}
+
+test("on a tablet: the class fits, a tap opens a trainee, one finger turns the view, two zoom it", async () => {
+  const tablet = await browser.newContext(
+    { viewport: { width: 768, height: 1024 }, hasTouch: true, isMobile: true, deviceScaleFactor: 2 });
+  try {
+    const page = await tablet.newPage();
+    const errors = [];
+    page.on("pageerror", (e) => errors.push(e.message));
+    await page.goto(url);
+    await page.fill("#token", token("instructor"));
+    await page.tap("#login button[type=submit]");
+    for (const id of sessions) await page.waitForSelector(`.tile[data-session="${id}"]`, { timeout: 10000 });
+    const overflow = await page.evaluate(() => document.documentElement.scrollWidth - window.innerWidth);
+    assert.ok(overflow <= 0, `nothing wider than the screen (${overflow} px over)`);
+    await page.tap(`.tile[data-session="${sessions[0]}"]`);
+    await page.waitForFunction(() => window.hapsim.framesApplied > 30, null, { timeout: 10000 });
+    const view = await (await page.$("#view3d")).boundingBox();
+    const plot = await (await page.$("#plot-time")).boundingBox();
+    assert.ok(view.width > 700 && view.height > 400, `the 3D view fills the width (${JSON.stringify(view)})`);
+    assert.ok(plot.y >= view.y + view.height, "the plots below it, not squeezed beside it");
+    // Fingers, not a mouse: every control at least 44 px tall.
+    for (const selector of ["#controls button[data-action=pause]", "#close-detail", "#trials", "#push", "#push-scene"]) {
+      const box = await (await page.$(selector)).boundingBox();
+      assert.ok(box.height >= 44, `${selector} is ${box.height} px tall`);
+    }
+    await page.screenshot({ path: join(shots, "console_tablet.png") });
+
+    const cdp = await tablet.newCDPSession(page);
+    const cx = view.x + view.width / 2, cy = view.y + view.height / 2;
+    // One finger 80 px to the right turns the camera about the tissue by
+    // 2π·80 px / the view's height, the other way (OrbitControls' rule).
+    const before = await orbit(page);
+    await touchGesture(cdp, [[[cx - 40, cy], [cx + 40, cy]]]);
+    const turned = await orbit(page);
+    const expected = (-2 * Math.PI * 80) / before.height;
+    const turn = Math.atan2(Math.sin(turned.azimuth - before.azimuth), Math.cos(turned.azimuth - before.azimuth));
+    assert.ok(Math.abs(turn - expected) < 0.01 * Math.abs(expected),
+      `turned ${turn.toFixed(4)} rad, expected ${expected.toFixed(4)}`);
+    assert.ok(Math.abs(turned.distance / before.distance - 1) < 1e-6, "turning keeps the distance");
+    // Two fingers spreading from 80 to 240 px apart bring the camera 3x closer.
+    await touchGesture(cdp, [[[cx - 40, cy], [cx - 120, cy]], [[cx + 40, cy], [cx + 120, cy]]]);
+    const zoomed = await orbit(page);
+    assert.ok(Math.abs(zoomed.distance / turned.distance - 1 / 3) < 0.01,
+      `distance ${turned.distance.toFixed(4)} -> ${zoomed.distance.toFixed(4)} m (expected a third)`);
+    assert.deepEqual(errors, []);
+  } finally {
+    await tablet.close();
+  }
+});
+
 test("an observer's reset is refused in the page and at the server", async () => {
   const page = await login("observer");
   await page.waitForSelector(`.tile[data-session="${sessions[1]}"]`);
