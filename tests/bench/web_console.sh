@@ -7,7 +7,10 @@
 # its devices on their own clocks); for each N in BROWSERS, N console
 # connections (bench_web_probe, core 1) watch the class at 10 Hz as the
 # tiles do, the first also viewing t1 and acknowledging every frame. Each N
-# is a fresh server, run back to back. Reports: server CPU [cores], the
+# is a fresh server, run back to back. Then, for each N in NATIVE, N native
+# consoles side by side (what hapsim-viewer --class does: each a gRPC
+# channel with its own WatchClass stream, the first also viewing t1; the
+# server serves at most 16 WatchClass streams). Reports: server CPU [cores], the
 # round trip p50/p99 and the server's late ticks (hapsim-load's report),
 # class status sizes, and the view's frame rate and frame sizes. Then one
 # more run with a real browser (Debian's Chromium, web/bench/view_lag.mjs)
@@ -17,7 +20,7 @@
 #
 #   tests/bench/web_console.sh [BIN_DIR] [OUT_DIR]
 #
-# Environment: BROWSERS [0 1 30 0 30], TRAINEES [16], RUN_S [10], THROTTLE
+# Environment: BROWSERS [0 1 30 0 30], NATIVE [16], TRAINEES [16], RUN_S [10], THROTTLE
 # [4 10] (empty: no browser run), PROBE_NICE [19], SERVER_FLAGS []. All on
 # 127.0.0.1.
 set -euo pipefail
@@ -25,6 +28,7 @@ repo=$(cd "$(dirname "$0")/../.." && pwd)
 bin=$(cd "${1:-$repo/build/bin}" && pwd)
 out=${2:-$repo/build/web-console-$(date -u +%Y%m%dT%H%M%SZ)}
 BROWSERS=${BROWSERS:-0 1 30 0 30}
+NATIVE=${NATIVE-16}
 THROTTLE=${THROTTLE-4 10}
 # The browsers are other machines; here they share core 1 with the trainees'
 # devices, so by default they yield to them (0: compete as equals).
@@ -61,13 +65,15 @@ start_class() {
 
 k=0
 runs=()
-for n in $BROWSERS; do
-  k=$((k + 1)) dir="$out/run-$k-browsers-$n" && mkdir -p "$dir" && cd "$dir"
-  runs+=("run-$k-browsers-$n")
+for run in $(for n in $BROWSERS; do echo "browsers-$n"; done; for n in $NATIVE; do echo "native-$n"; done); do
+  n=${run##*-}
+  k=$((k + 1)) dir="$out/run-$k-$run" && mkdir -p "$dir" && cd "$dir"
+  runs+=("run-$k-$run")
   start_class $((RUN_S + 4)) "$sessions"
   before=$(cpu_ticks "$server")
   if [ "$n" -gt 0 ]; then
-    taskset -c 1 nice -n "$PROBE_NICE" "$bin/bench_web_probe" --port "$web_port" --tls-ca "$out/certs/ca.pem" \
+    if [ "${run%-*}" = native ]; then to=(--grpc "127.0.0.1:$grpc_port"); else to=(--port "$web_port"); fi
+    taskset -c 1 nice -n "$PROBE_NICE" "$bin/bench_web_probe" "${to[@]}" --tls-ca "$out/certs/ca.pem" \
         --token-file "$out/class/tokens/observer.token" --class bench --view t1 --clients "$n" \
         --seconds "$RUN_S" >probe.json 2>probe.err || true
   else
@@ -76,17 +82,18 @@ for n in $BROWSERS; do
   after=$(cpu_ticks "$server")
   wait "$load" || true
   kill -TERM "$server"; wait "$server" || true
-  echo "{\"browsers\": $n, \"server_cores\": $(awk -v a="$before" -v b="$after" -v hz="$hz" -v s="$RUN_S" \
+  echo "{\"consoles\": $n, \"server_cores\": $(awk -v a="$before" -v b="$after" -v hz="$hz" -v s="$RUN_S" \
       'BEGIN { printf "%.3f", (b - a) / hz / s }')}" >cpu.json
   cd "$out"
 done
 /usr/bin/python3 - "$out" "${runs[@]}" <<'PY'
 import json, sys, os
 out, runs = sys.argv[1], sys.argv[2:]
-print(f"{'browsers':>8} {'server cores':>12} {'rt p50 ms':>9} {'rt p99 ms':>9} {'late ticks':>10} "
+print(f"{'consoles':>11} {'server cores':>12} {'rt p50 ms':>9} {'rt p99 ms':>9} {'late ticks':>10} "
       f"{'status B':>8} {'max':>6} {'view fps':>8} {'vertices':>8} {'key B':>7} {'delta B':>7} {'max':>6}")
 for run in runs:
-    n = run.split("-")[-1]
+    kind, n = run.split("-")[-2:]
+    n = f"{n} {'web' if kind == 'browsers' else 'native'}"
     d = os.path.join(out, run)
     cpu = json.load(open(os.path.join(d, "cpu.json")))
     load = json.load(open(os.path.join(d, "load.json")))
@@ -94,7 +101,7 @@ for run in runs:
     late = sum(s["late_ticks"] for s in load.get("server_sessions", []))
     rt = load["total"]["round_trip_ms"]
     g = lambda k: probe.get(k, 0)
-    print(f"{n:>8} {cpu['server_cores']:>12.3f} {rt['p50']:>9.2f} {rt['p99']:>9.2f} {late:>10} "
+    print(f"{n:>11} {cpu['server_cores']:>12.3f} {rt['p50']:>9.2f} {rt['p99']:>9.2f} {late:>10} "
           f"{g('status_bytes_mean'):>8.0f} {g('status_bytes_max'):>6} {g('view_fps'):>8.1f} {g('view_vertices'):>8} "
           f"{g('keyframe_bytes'):>7} {g('delta_bytes_mean'):>7.0f} {g('delta_bytes_max'):>6}")
 PY

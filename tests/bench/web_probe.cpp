@@ -3,10 +3,14 @@
 // tiles do), the first also viewing one trainee and acknowledging every
 // frame at once (as a browser that keeps up does). Prints one JSON object:
 // statuses and frames received, their sizes, the view's frame rate.
+// With --grpc ADDRESS the N clients are native consoles instead (what
+// hapsim-viewer --class does): each its own gRPC channel with a WatchClass
+// stream, the first also a Subscribe stream; sizes are then the protobuf
+// messages' (without HTTP/2's framing).
 // Run by tests/bench/web_console.sh (docs/performance.md, "The web console").
 //
-//   bench_web_probe --port P --token-file F --class C [--view SESSION]
-//                   [--clients N] [--seconds S] [--tls-ca CA]
+//   bench_web_probe (--port P | --grpc HOST:PORT) --token-file F --class C
+//                   [--view SESSION] [--clients N] [--seconds S] [--tls-ca CA]
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -16,6 +20,9 @@
 #include <thread>
 #include <vector>
 
+#include "hapsim/v1/session.grpc.pb.h"
+#include "hapsim/v1/viewer.grpc.pb.h"
+#include "hapsim/viewer/connection.h"
 #include "server/web/console_client.h"
 
 namespace {
@@ -26,14 +33,35 @@ using Clock = std::chrono::steady_clock;
 struct Options {
   int port = 0, clients = 1;
   double seconds = 10.0;
-  std::string token, class_name, view, tls_ca;
+  std::string token, class_name, view, tls_ca, grpc;
 };
 
 struct Tally {
   std::uint64_t statuses = 0, status_bytes = 0, status_max = 0;
   std::uint64_t frames = 0, keyframes = 0, delta_bytes = 0, delta_max = 0, keyframe_bytes = 0, vertices = 0;
   bool connected = false;
+
+  void CountFrame(const hapsim::v1::Frame& frame, std::uint64_t bytes) {
+    ++frames;
+    if (frame.has_keyframe()) {
+      ++keyframes;
+      keyframe_bytes += bytes;
+      vertices = static_cast<std::uint64_t>(frame.keyframe().positions_q_size() / 3);
+    } else {
+      delta_bytes += bytes;
+      delta_max = std::max(delta_max, bytes);
+    }
+  }
+  void CountStatus(std::uint64_t bytes) {
+    ++statuses;
+    status_bytes += bytes;
+    status_max = std::max(status_max, bytes);
+  }
 };
+
+Clock::time_point EndOf(const Options& o) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
+}
 
 template <class Client>
 void Watch(Client& client, const Options& o, bool view, Tally* t) {
@@ -50,30 +78,71 @@ void Watch(Client& client, const Options& o, bool view, Tally* t) {
     open.mutable_open_view()->set_ack_window(4);
     client.Send(open);
   }
-  const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
+  const auto end = EndOf(o);
   while (Clock::now() < end) {
     const auto event = client.Next(std::chrono::seconds(2));
     if (!event) break;
     const std::uint64_t bytes = event->ByteSizeLong();
     if (event->has_class_status()) {
-      ++t->statuses;
-      t->status_bytes += bytes;
-      t->status_max = std::max(t->status_max, bytes);
+      t->CountStatus(bytes);
     } else if (event->has_frame()) {
-      ++t->frames;
-      if (event->frame().has_keyframe()) {
-        ++t->keyframes;
-        t->keyframe_bytes += bytes;
-        t->vertices = static_cast<std::uint64_t>(event->frame().keyframe().positions_q_size() / 3);
-      } else {
-        t->delta_bytes += bytes;
-        t->delta_max = std::max(t->delta_max, bytes);
-      }
+      t->CountFrame(event->frame(), bytes);
       hapsim::v1::ConsoleRequest ack;
       ack.mutable_ack()->set_applied_seq(event->frame().seq());
       client.Send(ack);
     }
   }
+}
+
+// A native console: a WatchClass stream at 10 Hz and, for the first, a
+// Subscribe stream acknowledging every frame at once.
+void WatchNative(const Options& o, bool view, Tally* t) {
+  hapsim::viewer::Connection connection;
+  connection.address = o.grpc;
+  connection.token = o.token;
+  connection.tls_ca_file = o.tls_ca;
+  grpc::ChannelArguments args;
+  args.SetInt("grpc.use_local_subchannel_pool", 1);  // a channel of its own, as another machine's
+  const auto channel = hapsim::viewer::MakeChannel(connection, args);
+  const auto end = EndOf(o);
+  const auto deadline = std::chrono::system_clock::now() +  // gRPC's deadlines are on the system clock
+                        std::chrono::duration_cast<std::chrono::system_clock::duration>(end - Clock::now());
+  std::thread frames;
+  grpc::ClientContext view_context;
+  if (view) {
+    frames = std::thread([&] {
+      auto viewers = hapsim::v1::ViewerService::NewStub(channel);
+      hapsim::viewer::AddToken(&view_context, o.token);
+      view_context.set_deadline(deadline);
+      auto stream = viewers->Subscribe(&view_context);
+      hapsim::v1::ViewerMessage hello;
+      hello.mutable_subscribe()->set_session_id(o.view);
+      hello.mutable_subscribe()->set_ack_window(4);
+      stream->Write(hello);
+      hapsim::v1::Frame frame;
+      while (Clock::now() < end && stream->Read(&frame)) {
+        t->CountFrame(frame, frame.ByteSizeLong());
+        hapsim::v1::ViewerMessage ack;
+        ack.mutable_ack()->set_applied_seq(frame.seq());
+        stream->Write(ack);
+      }
+      view_context.TryCancel();  // the deadline passed: stop the stream here, not at the server's leisure
+    });
+  }
+  auto sessions = hapsim::v1::SessionService::NewStub(channel);
+  grpc::ClientContext context;
+  hapsim::viewer::AddToken(&context, o.token);
+  context.set_deadline(deadline);
+  hapsim::v1::WatchClassRequest request;
+  request.set_class_name(o.class_name);
+  request.set_rate_hz(10);
+  auto reader = sessions->WatchClass(&context, request);
+  hapsim::v1::ClassStatus status;
+  while (reader->Read(&status)) {
+    t->connected = true;
+    t->CountStatus(status.ByteSizeLong());
+  }
+  if (frames.joinable()) frames.join();
 }
 
 bool Parse(int argc, char** argv, Options* o) {
@@ -91,12 +160,14 @@ bool Parse(int argc, char** argv, Options* o) {
       o->view = v;
     else if (k == "--tls-ca")
       o->tls_ca = v;
+    else if (k == "--grpc")
+      o->grpc = v;
     else if (k == "--token-file")
       std::getline(std::ifstream(v) >> std::ws, o->token);
     else
       return false;
   }
-  return o->port > 0 && o->clients >= 1 && !o->token.empty();
+  return (o->port > 0) != !o->grpc.empty() && o->clients >= 1 && !o->token.empty();
 }
 
 }  // namespace
@@ -105,8 +176,8 @@ int main(int argc, char** argv) {
   Options o;
   if (argc % 2 == 0 || !Parse(argc, argv, &o)) {
     std::fprintf(stderr,
-                 "usage: bench_web_probe --port P --token-file F --class C [--view SESSION] [--clients N] "
-                 "[--seconds S] [--tls-ca CA]\n");
+                 "usage: bench_web_probe (--port P | --grpc HOST:PORT) --token-file F --class C [--view SESSION] "
+                 "[--clients N] [--seconds S] [--tls-ca CA]\n");
     return 2;
   }
   std::vector<Tally> tallies(static_cast<std::size_t>(o.clients));
@@ -114,7 +185,9 @@ int main(int argc, char** argv) {
   for (int i = 0; i < o.clients; ++i) {
     threads.emplace_back([&, i] {
       const bool view = i == 0 && !o.view.empty();
-      if (o.tls_ca.empty()) {
+      if (!o.grpc.empty()) {
+        WatchNative(o, view, &tallies[static_cast<std::size_t>(i)]);
+      } else if (o.tls_ca.empty()) {
         hapsim::web::test::PlainClient client;
         Watch(client, o, view, &tallies[static_cast<std::size_t>(i)]);
       } else {
