@@ -17,7 +17,7 @@ packages=(
   clang libfuzzer-14-dev libclang-rt-14-dev
   libglfw3-dev libgl-dev libopengl-dev libegl-dev libgl1-mesa-dri libegl-mesa0 libimgui-dev libstb-dev xvfb xauth
   libboost-dev  # Boost.Beast: the web console's HTTPS/WebSocket
-  nodejs chromium  # the web console: its bundle is built with Node.js; its tests drive Chromium
+  nodejs chromium firefox-esr  # the web console: its bundle is built with Node.js; its tests drive Chromium and Firefox
 )
 # npm comes with some Node.js builds (NodeSource's) and is Debian's own package otherwise.
 command -v npm >/dev/null 2>&1 || packages+=(npm)

@@ -7,9 +7,10 @@
 # needle where the tool pose projects, on an emulated tablet a tap opens a
 # trainee and touch turns and zooms the view, an observer's reset is refused
 # in the page and at the server, and the page reconnects after a server
-# restart (and more: web/test/console.test.mjs).
+# restart (and more: web/test/console.test.mjs); then the same page in
+# Firefox (web/test/firefox.test.mjs, on a virtual X display).
 # Chromium trusts exactly the server's certificate (its SPKI hash).
-# Bounded (about 40 s); everything on 127.0.0.1.
+# Bounded (about 60 s); everything on 127.0.0.1.
 set -euo pipefail
 source "$(dirname "$0")/lib.sh" "$@"
 repo=$(cd "$here/../.." && pwd)
@@ -39,15 +40,21 @@ $(declare -p bin domain grpc_port server_flags)
 start_web_server
 RESTART
 "$bin/hapsim-load" --sessions t1,t2,t3,t4 --dds-domain "$domain" --script insertion \
-    --depth-mm 12 --speed-mm-s 10 --hold-s 0.5 --phase-spread-s 1.0 --seconds 60 >load.out 2>load.err &
+    --depth-mm 12 --speed-mm-s 10 --hold-s 0.5 --phase-spread-s 1.0 --seconds 120 >load.out 2>load.err &
 pids+=($!)
 spki=$(openssl x509 -in certs/server.pem -pubkey -noout | openssl pkey -pubin -outform der |
        openssl dgst -sha256 -binary | base64)
 mkdir -p shots
+# Firefox gets a window on a virtual display of its own (Xvfb picks a free number).
+Xvfb -displayfd 3 -screen 0 1366x768x24 -nolisten tcp 3>xvfb.display 2>xvfb.log &
+pids+=($!)
+for _ in $(seq 1 50); do [ -s xvfb.display ] && break; sleep 0.1; done
+[ -s xvfb.display ] || { echo "Xvfb did not start"; cat xvfb.log; exit 1; }
+export HAPSIM_WEB_URL="https://127.0.0.1:$web_port/" HAPSIM_WEB_SPKI="$spki" HAPSIM_TOKENS="$work/class/tokens" \
+       HAPSIM_SESSIONS=t1,t2,t3,t4 HAPSIM_RESTART="bash $work/restart.sh" HAPSIM_SHOTS="$work/shots"
 code=0
-HAPSIM_WEB_URL="https://127.0.0.1:$web_port/" HAPSIM_WEB_SPKI="$spki" HAPSIM_TOKENS="$work/class/tokens" \
-HAPSIM_SESSIONS=t1,t2,t3,t4 HAPSIM_RESTART="bash $work/restart.sh" HAPSIM_SHOTS="$work/shots" \
-  timeout 120 node --test --test-reporter=spec "$repo/web/test/" || code=$?
+timeout 120 node --test --test-reporter=spec "$repo/web/test/console.test.mjs" || code=$?
 [ -f server.pid ] && pids+=("$(cat server.pid)")
+DISPLAY=":$(cat xvfb.display)" timeout 90 node --test --test-reporter=spec "$repo/web/test/firefox.test.mjs" || code=$?
 grep -c "web console: connection refused" server.log* || true
 exit "$code"

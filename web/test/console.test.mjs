@@ -14,6 +14,7 @@ import { execFileSync } from "node:child_process";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
+import { assertViewShowsTissueAndNeedle, plotInk, sampleView } from "./page_checks.mjs";
 
 const url = process.env.HAPSIM_WEB_URL;
 const tokens = process.env.HAPSIM_TOKENS;
@@ -84,41 +85,10 @@ test("opening a trainee draws the tissue, and the needle where the tool pose pro
   await page.waitForFunction(() => window.hapsim.framesApplied > 30, null, { timeout: 10000 });
   const canvas = await page.$("#view3d");
   const box = await canvas.boundingBox();
-  // Sample the canvas and the tip's projection in one go (same frame).
-  const sample = await page.evaluate(() => {
-    const c = document.getElementById("view3d");
-    const tip = window.hapsim.view.projectedTip();
-    const probe = document.createElement("canvas");
-    probe.width = c.clientWidth;
-    probe.height = c.clientHeight;
-    const ctx = probe.getContext("2d");
-    ctx.drawImage(c, 0, 0, probe.width, probe.height);
-    const all = ctx.getImageData(0, 0, probe.width, probe.height).data;
-    // Pixels of the tissue: reddish, unlike the grey background (#f4f4f4).
-    let tissue = 0;
-    for (let i = 0; i < all.length; i += 4) tissue += all[i] > all[i + 2] + 30 && all[i] > all[i + 1] + 20 ? 1 : 0;
-    // The tool is blue: the pixels around two points of its shaft above the
-    // tissue (the tip itself may be inside it, hidden).
-    let blue = 0;
-    for (const fraction of [0.75, 0.95]) {
-      const at = window.hapsim.view.projectedShaft(fraction);
-      for (let dy = -3; dy <= 3; ++dy) {
-        for (let dx = -3; dx <= 3; ++dx) {
-          const x = Math.round(at.x + dx), y = Math.round(at.y + dy);
-          if (x < 0 || y < 0 || x >= probe.width || y >= probe.height) continue;
-          const [r, g, b] = ctx.getImageData(x, y, 1, 1).data;
-          if (b > r + 40 && b > g + 20) ++blue;
-        }
-      }
-    }
-    return { tissueShare: tissue / (probe.width * probe.height), blue, tip, width: probe.width, height: probe.height };
-  });
+  const sample = await page.evaluate(sampleView);  // the canvas and the tip's projection in one go
   await page.screenshot({ path: join(shots, "console_trainee.png") });
   assert.ok(box.width > 300 && box.height > 150, "a usable 3D view on a 1366x768 screen");
-  assert.ok(sample.tissueShare > 0.02, `the tissue is drawn (${(100 * sample.tissueShare).toFixed(1)} % of the view)`);
-  assert.ok(sample.tip.x > 0 && sample.tip.x < sample.width && sample.tip.y > 0 && sample.tip.y < sample.height,
-    `the tool tip projects into the view (${JSON.stringify(sample.tip)})`);
-  assert.ok(sample.blue >= 6, `the needle is drawn where its pose projects (${sample.blue} blue pixels)`);
+  assertViewShowsTissueAndNeedle(sample);
   assert.deepEqual(page.errors, []);
   await page.close();
 });
@@ -133,13 +103,7 @@ test("without WebGL the page says so, and plots and controls still work", async 
     assert.match(await page.textContent("#message"), /no 3D view in this browser/);
     assert.equal(await page.isHidden("#view3d"), true);
     await page.waitForTimeout(300);  // plots are drawn at 10 Hz
-    const ink = await page.evaluate(() => {
-      const c = document.getElementById("plot-time");
-      const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
-      let n = 0;
-      for (let i = 3; i < d.length; i += 4) n += d[i] > 0 ? 1 : 0;
-      return n;
-    });
+    const ink = await page.evaluate(plotInk);
     assert.ok(ink > 200, `the force-time plot is drawn (${ink} pixels)`);
     assert.equal(await page.isDisabled("#controls button[data-action=pause]"), false);
     assert.deepEqual(page.errors, []);
