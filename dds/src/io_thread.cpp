@@ -38,9 +38,16 @@ void IoThread::Run() {
   }
 }
 
-common::RealtimeResult RaiseDdsThreads(int priority) {
-  return common::RaiseThreadsNamed(
-      {"recv", "recvUC", "recvMC", "dq.user", "dq.builtins", "tev", "gc", IoThread::kThreadName}, priority);
+bool IsDdsThread(const std::string& name) {
+  // Cyclone's own threads (receive, delivery queues, timed events, garbage
+  // collection) and ours.
+  for (const char* dds_name :
+       {"recv", "recvUC", "recvMC", "dq.user", "dq.builtins", "tev", "gc", IoThread::kThreadName}) {
+    if (name == dds_name) return true;
+  }
+  return false;
 }
+
+common::RealtimeResult RaiseDdsThreads(int priority) { return common::RaiseThreadsWhere(IsDdsThread, priority); }
 
 }  // namespace hapsim::dds

@@ -17,6 +17,7 @@
 #include "hapsim/common/flags.h"
 #include "hapsim/common/logging.h"
 #include "hapsim/common/shutdown_deadline.h"
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/core/scenes/scene.h"
 
 namespace {
@@ -105,6 +106,7 @@ std::string DefaultWebRoot() {
 struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config, data_dir, record = "class";
   std::string directory, server_name = HostName(), peer_tls_ca;
+  std::string tick_cpus;
   double peer_timeout_ms = 1000.0;
   double recording_flush_ms = 50.0, recording_fsync_ms = 0.0, checkpoint_every_s = 1.0, retention_days = 90.0;
   bool database_fsync = false;
@@ -172,6 +174,10 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
             "run the tick workers at this SCHED_FIFO priority and the pose receive threads one above, so\n"
             "viewers, gRPC and recording never delay a tick (needs CAP_SYS_NICE or LimitRTPRIO; refused:\n"
             "a warning, normal priority). 0: normal scheduling");
+  flags.Add("tick-cpus", &f->tick_cpus,
+            "CPUs of the 1 kHz path, e.g. 0 or 2-3: the tick workers and pose receive threads run only\n"
+            "there, every other thread (gRPC, viewers, web console, recording) only on the other CPUs; the\n"
+            "tick pool defaults to one worker per tick CPU. Empty: no pinning");
   flags.Add("max-message-bytes", &options->max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &f->dds_domain, "DDS domain id");
   flags.Add("dds-config", &f->dds_config,
@@ -234,6 +240,16 @@ bool ServerFlagsInRange(const ServerFlags& f, const hapsim::service::ServerOptio
 // The flags into options, in SI units; false (after saying why) if the
 // class config cannot be used.
 bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* options) {
+  if (!f.tick_cpus.empty()) {
+    const auto cpus = hapsim::common::ParseCpuList(f.tick_cpus);
+    const std::string why =
+        !cpus ? "\"" + f.tick_cpus + "\" is not a CPU list like 0, 0,2 or 2-3" : hapsim::common::CheckTickCpus(*cpus);
+    if (!why.empty()) {
+      std::fprintf(stderr, "hapsim-server: --tick-cpus: %s\n", why.c_str());
+      return false;
+    }
+    options->tick_cpus = *cpus;
+  }
   options->sessions.tick_period_s = 1.0 / f.tick_hz;
   options->sessions.max_sessions = static_cast<std::size_t>(f.max_sessions);
   options->sessions.pose_timeout_s = f.pose_timeout_ms * 1e-3;

@@ -13,7 +13,9 @@
 #   tests/bench/viewers_vs_tick.sh [BIN_DIR] [OUT_DIR]
 #
 # Environment: VIEWERS [0 25 50 100], RT [off on], RUN_S [10],
-# RT_PRIORITY [40], RT_WHERE [server bridge] (who gets it in `on` runs). Needs root (or CAP_SYS_NICE) for the `on` runs; all
+# RT_PRIORITY [40], RT_WHERE [server bridge] (who gets it in `on` runs),
+# SERVER_CPUS [0] (the server's taskset), SERVER_FLAGS [] (e.g. with
+# SERVER_CPUS=0,1: "--tick-cpus 0", the tick path alone on core 0). Needs root (or CAP_SYS_NICE) for the `on` runs; all
 # traffic on 127.0.0.1 with the shipped loopback DDS config.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
@@ -39,8 +41,9 @@ run() {  # N RT
     [[ " $RT_WHERE " == *" server "* ]] && server_rt=(--rt-priority "$RT_PRIORITY")
     [[ " $RT_WHERE " == *" bridge "* ]] && bridge_rt=(--rt-priority "$RT_PRIORITY")
   fi
-  taskset -c 0 "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --workers 1 --dds-domain "$domain" \
-      --sessions s:tissue_block --model-deadband 0 "${server_rt[@]}" >server.out 2>server.log &
+  taskset -c "${SERVER_CPUS:-0}" "$bin/hapsim-server" --listen 127.0.0.1:0 --port-file port --workers 1 \
+      --dds-domain "$domain" --sessions s:tissue_block --model-deadband 0 "${server_rt[@]}" ${SERVER_FLAGS:-} \
+      >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 100); do [ -s port ] && break; sleep 0.05; done
   local addr="127.0.0.1:$(cat port)"

@@ -21,8 +21,9 @@
 #   tests/bench/web_console.sh [BIN_DIR] [OUT_DIR]
 #
 # Environment: BROWSERS [0 1 30 0 30], NATIVE [16], TRAINEES [16], RUN_S [10], THROTTLE
-# [4 10] (empty: no browser run), PROBE_NICE [19], SERVER_FLAGS []. All on
-# 127.0.0.1.
+# [4 10] (empty: no browser run), PROBE_NICE [19], SERVER_FLAGS [], WEB_NICE
+# [] (the console thread's nice, set with renice once the server runs;
+# empty: as the server sets it, 10). All on 127.0.0.1.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 bin=$(cd "${1:-$repo/build/bin}" && pwd)
@@ -55,6 +56,11 @@ start_class() {
       --web-listen "127.0.0.1:$web_port" $SERVER_FLAGS >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 100); do grep -q "web console at" server.log && break; sleep 0.1; done
+  if [ -n "${WEB_NICE:-}" ]; then
+    for task in /proc/"$server"/task/*; do
+      [ "$(cat "$task/comm")" = hapsim-web ] && renice -n "$WEB_NICE" -p "${task##*/}" >/dev/null
+    done
+  fi
   taskset -c "${load_core:-1}" "$bin/hapsim-load" --sessions "$2" --dds-domain "$domain" --script insertion \
       --seconds "$1" --server "127.0.0.1:$grpc_port" --tls-ca "$out/certs/ca.pem" \
       --token-file "$out/class/tokens/instructor.token" --server-stats --json load.json ${load_flags:-} \

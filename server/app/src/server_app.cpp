@@ -88,6 +88,9 @@ bool IsLoopbackAddress(const std::string& a) {
 
 ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(*o.classes) : AccessPolicy()) {
   const auto credentials = MakeCredentials(o);  // bad TLS files fail before anything starts
+  if (const std::string why = o.tick_cpus.empty() ? "" : common::CheckTickCpus(o.tick_cpus); !why.empty()) {
+    throw std::invalid_argument("--tick-cpus: " + why);
+  }
   if (o.directory) peers_ = MakePeerLocator(*o.directory);
   AssembleParts(o);
   StartGrpc(o, credentials);
@@ -95,6 +98,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
   if (!o.web_listen_address.empty()) StartWebConsole(o);
   dds_->Start(registry_.get(), pool_.get());
   if (o.rt_priority > 0) RaiseTheTickPath(o.rt_priority);
+  if (!o.tick_cpus.empty()) GiveTheTickPathItsCpus(o.tick_cpus);
   if (persistence_) BringBack();
   pump_->Start();
   if (o.classes) CreateClassSessions(*o.classes);
@@ -105,7 +109,8 @@ void ServerApp::AssembleParts(const ServerOptions& o) {
   dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
   spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
                dds_->instance());
-  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : DefaultWorkerCount());
+  const int default_workers = o.tick_cpus.empty() ? DefaultWorkerCount() : static_cast<int>(o.tick_cpus.size());
+  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : default_workers);
   spdlog::info("tick pool: {} workers", pool_->workers());
   if (o.persistence) persistence_ = std::make_unique<Persistence>(*o.persistence, &policy_, &viewers_);
   registry_ = std::make_unique<SessionRegistry>(
@@ -191,6 +196,18 @@ void ServerApp::RaiseTheTickPath(int priority) {
   }
   spdlog::info("real-time priority: {} tick workers at SCHED_FIFO {}, {} DDS threads at {}", ticks.raised, priority,
                dds_threads.raised, priority + 1);
+}
+
+void ServerApp::GiveTheTickPathItsCpus(const std::vector<int>& cpus) {
+  const auto split = common::SplitThreadsByCpu(
+      [](const std::string& name) { return name == TickPool::kWorkerThreadName || dds::IsDdsThread(name); }, cpus);
+  if (split.refused > 0) {
+    spdlog::warn("CPU affinity refused for {} threads: they may share the tick's CPUs", split.refused);
+  }
+  std::string list;
+  for (const int cpu : cpus) list += (list.empty() ? "" : ",") + std::to_string(cpu);
+  spdlog::info("tick CPUs {}: {} tick workers and DDS threads there, {} other threads on the other CPUs", list,
+               split.tick_path, split.others);
 }
 
 void ServerApp::BringBack() {

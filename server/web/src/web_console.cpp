@@ -24,6 +24,7 @@
 
 #include "class_watch_hub.h"
 #include "console_session.h"
+#include "hapsim/common/thread_setup.h"
 #include "hapsim/web/static_files.h"
 
 namespace hapsim::web {
@@ -391,7 +392,9 @@ WebConsole::WebConsole(const WebConsoleOptions& options, std::shared_ptr<grpc::C
   w.Listen();
   w.Accept();
   w.thread = std::thread([&w] {
-    pthread_setname_np(pthread_self(), "hapsim-web");
+    common::NameThisThread("hapsim-web");
+    // Browsers can wait a few milliseconds; a due tick on the same core cannot.
+    common::LowerThisThreadPriority();
     w.io.run();
   });
 }

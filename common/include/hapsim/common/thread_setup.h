@@ -3,8 +3,12 @@
 // the tick preempts it when both want the core; and threads worth telling
 // apart in top, perf and /proc/PID/task carry a name.
 #pragma once
+#include <functional>
 #include <initializer_list>
+#include <optional>
+#include <string>
 #include <thread>
+#include <vector>
 
 namespace hapsim::common {
 
@@ -43,6 +47,34 @@ struct RealtimeResult {
   int refused = 0;  // threads found by name whose change the kernel refused
 };
 RealtimeResult RaiseThreadsNamed(std::initializer_list<const char*> names, int priority);
+// The same for the threads for which chosen(their name) is true.
+RealtimeResult RaiseThreadsWhere(const std::function<bool(const std::string& name)>& chosen, int priority);
+
+// A core of its own for the 1 kHz path: the threads for which on_tick_path
+// (their name) is true run only on `tick_cpus`, every other thread of this
+// process only on the CPUs it may use besides them — and so does any thread
+// started later by one of those (a new thread inherits its creator's CPUs),
+// so viewer streaming, gRPC, the web console and recording never share a
+// core with a tick. Complements real-time priority: that decides who runs
+// first on a shared core, this keeps the cores apart (interrupt work a
+// socket send does in its caller's context included).
+struct AffinityResult {
+  int tick_path = 0;  // threads now on tick_cpus only
+  int others = 0;     // threads now on the other CPUs only
+  int refused = 0;    // threads whose change the kernel refused
+};
+// "" if `tick_cpus` can be used, else why not: a CPU this process may not
+// run on, none given, or none left for the other threads.
+std::string CheckTickCpus(const std::vector<int>& tick_cpus);
+// Call CheckTickCpus first. Reads the process's CPUs from the calling thread.
+AffinityResult SplitThreadsByCpu(const std::function<bool(const std::string& name)>& on_tick_path,
+                                 const std::vector<int>& tick_cpus);
+// The CPUs of this thread (sched_getaffinity), ascending.
+std::vector<int> CpusOfThread(int tid);
+
+// "0", "0,2", "2-3,6": CPU numbers, ascending and distinct; nullopt if the
+// text is not such a list.
+std::optional<std::vector<int>> ParseCpuList(const std::string& text);
 // The calling thread at SCHED_FIFO `priority`; false where refused (unchanged).
 bool RunThisThreadAtRealtime(int priority);
 

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <thread>
 
 #include "hapsim/common/thread_setup.h"
@@ -59,5 +60,7 @@ class IoThread {
 // trip grew to seconds). They do little work each. Call after the
 // participant exists and the IoThread started.
 common::RealtimeResult RaiseDdsThreads(int priority);
+// Whether a thread of this name is one of those.
+bool IsDdsThread(const std::string& name);
 
 }  // namespace hapsim::dds

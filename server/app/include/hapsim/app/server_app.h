@@ -43,6 +43,10 @@ struct ServerOptions {
   // SCHED_FIFO priority of the tick workers (the receive threads one above);
   // 0: normal scheduling. Refused (no CAP_SYS_NICE / RLIMIT_RTPRIO): a warning.
   int rt_priority = 0;
+  // CPUs of the 1 kHz path: the tick workers and the pose receive threads run
+  // only there, every other thread only on the process's other CPUs (and the
+  // tick pool defaults to one worker per tick CPU). Empty: no pinning.
+  std::vector<int> tick_cpus;
   double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
   hapsim::dds::Options dds;
@@ -96,6 +100,7 @@ class ServerApp {
   void StartGrpc(const ServerOptions& options, const std::shared_ptr<grpc::ServerCredentials>& credentials);
   void StartMetrics(const std::string& listen_address);
   void StartWebConsole(const ServerOptions& options);
+  void GiveTheTickPathItsCpus(const std::vector<int>& cpus);  // --tick-cpus
   void RaiseTheTickPath(int priority);  // --rt-priority
   void BringBack();  // the data directory's trials, scores and sessions
   void CreateClassSessions(const ClassConfig& classes);
