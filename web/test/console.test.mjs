@@ -14,13 +14,8 @@ import { execFileSync } from "node:child_process";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import { chromium } from "playwright-core";
-import { assertViewShowsTissueAndNeedle, plotInk, sampleView } from "./page_checks.mjs";
+import { assertViewShowsTissueAndNeedle, plotInk, sampleView, sessions, shots, token, url } from "./page_checks.mjs";
 
-const url = process.env.HAPSIM_WEB_URL;
-const tokens = process.env.HAPSIM_TOKENS;
-const sessions = process.env.HAPSIM_SESSIONS.split(",");
-const shots = process.env.HAPSIM_SHOTS || ".";
-const token = (who) => readFileSync(join(tokens, `${who}.token`), "utf8").trim();
 let browser;
 
 const launch = (extraArgs) => chromium.launch({

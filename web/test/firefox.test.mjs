@@ -9,16 +9,10 @@
 //   HAPSIM_FIREFOX        the browser [/usr/bin/firefox-esr]
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { readFileSync } from "node:fs";
 import { join } from "node:path";
 import puppeteer from "puppeteer-core";
-import { assertViewShowsTissueAndNeedle, plotInk, sampleView } from "./page_checks.mjs";
+import { assertViewShowsTissueAndNeedle, plotInk, sampleView, sessions, shots, token, url } from "./page_checks.mjs";
 
-const url = process.env.HAPSIM_WEB_URL;
-const tokens = process.env.HAPSIM_TOKENS;
-const sessions = process.env.HAPSIM_SESSIONS.split(",");
-const shots = process.env.HAPSIM_SHOTS || ".";
-const token = (who) => readFileSync(join(tokens, `${who}.token`), "utf8").trim();
 let browser;
 
 before(async () => {

@@ -1,5 +1,13 @@
-// Checks of the console page shared by the Chromium and the Firefox tests.
+// What the Chromium and the Firefox tests share: the run's environment
+// (set by tests/integration/web_console.sh) and checks of the page.
 import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
+import { join } from "node:path";
+
+export const url = process.env.HAPSIM_WEB_URL;
+export const sessions = process.env.HAPSIM_SESSIONS.split(",");
+export const shots = process.env.HAPSIM_SHOTS || ".";
+export const token = (who) => readFileSync(join(process.env.HAPSIM_TOKENS, `${who}.token`), "utf8").trim();
 
 // Runs in the page (pass it to page.evaluate): the 3D view's pixels and the
 // tool tip's projection, sampled in one go (the same drawing).
