@@ -23,7 +23,8 @@
 # Environment: BROWSERS [0 1 30 0 30], NATIVE [16], TRAINEES [16], RUN_S [10], THROTTLE
 # [4 10] (empty: no browser run), PROBE_NICE [19], SERVER_FLAGS [], WEB_NICE
 # [] (the console thread's nice, set with renice once the server runs;
-# empty: as the server sets it, 10). All on 127.0.0.1.
+# empty: as the server sets it, 10), SERVER_CPUS [0] (the server's taskset;
+# e.g. 0,1 with SERVER_FLAGS="--tick-cpus 0"). All on 127.0.0.1.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/../.." && pwd)
 bin=$(cd "${1:-$repo/build/bin}" && pwd)
@@ -51,7 +52,7 @@ hz=$(getconf CLK_TCK)
 # start_class SECONDS SESSIONS: a fresh server (core 0) and these trainees' devices (core 1) in the current folder.
 start_class() {
   domain=$((220 + RANDOM % 12)) grpc_port=$(free_port) web_port=$(free_port)
-  taskset -c 0 "$bin/hapsim-server" --listen "127.0.0.1:$grpc_port" --dds-domain "$domain" --workers 1 \
+  taskset -c "${SERVER_CPUS:-0}" "$bin/hapsim-server" --listen "127.0.0.1:$grpc_port" --dds-domain "$domain" --workers 1 \
       --class-config "$out/class/class.toml" --tls-cert "$out/certs/server.pem" --tls-key "$out/certs/server.key" \
       --web-listen "127.0.0.1:$web_port" $SERVER_FLAGS >server.out 2>server.log &
   server=$!; pids+=("$server")
