@@ -56,8 +56,8 @@ RealtimeResult RaiseThreadsWhere(const std::function<bool(const std::string& nam
 // started later by one of those (a new thread inherits its creator's CPUs),
 // so viewer streaming, gRPC, the web console and recording never share a
 // core with a tick. Complements real-time priority: that decides who runs
-// first on a shared core, this keeps the cores apart (interrupt work a
-// socket send does in its caller's context included).
+// first on a shared core, this keeps the cores apart (and with them the
+// kernel's work for those threads' sockets, done on their own cores).
 struct AffinityResult {
   int tick_path = 0;  // threads now on tick_cpus only
   int others = 0;     // threads now on the other CPUs only
