@@ -31,6 +31,8 @@ expect 2 "--frame-rate-hz must be within (0, 1000]" "$bin/hapsim-server" --liste
 expect 2 "--pose-timeout-ms must be within (0, 60000]" "$bin/hapsim-server" --listen 127.0.0.1:0 --pose-timeout-ms 1e18
 expect 2 "--quantum-mm must be within (0, 1]" "$bin/hapsim-server" --listen 127.0.0.1:0 --quantum-mm 5
 expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-server" --listen 127.0.0.1:0 --rt-priority 99
+expect 2 "--tick-cpus: \"0-\" is not a CPU list like 0, 0,2 or 2-3" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-cpus 0-
+expect 2 "--tick-cpus: CPU 1000 is not one this process may run on" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-cpus 1000
 expect 2 "--clock-phase-spread must be within \[0, 1\]" "$bin/hapsim-load" --clock-phase-spread 2
 expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-bridge" --rt-priority 99
 # Durations that would overflow when converted to ns or tick counts
