@@ -24,6 +24,12 @@ void RunThisThreadOnlyWhenIdle() {
   if (pthread_setschedparam(pthread_self(), SCHED_IDLE, &param) != 0) LowerThisThreadPriority();
 }
 
+void RunThreadInBatch(std::thread& thread) {
+  sched_param param{};
+  param.sched_priority = 0;
+  (void)pthread_setschedparam(thread.native_handle(), SCHED_BATCH, &param);
+}
+
 namespace {
 void NamePthread(pthread_t thread, const char* name) {
   const std::string cut(name, std::min<std::size_t>(std::strlen(name), 15));  // the kernel's limit

@@ -6,8 +6,8 @@
 
 namespace hapsim::dds {
 
-IoThread::IoThread(const Participant& participant, std::int64_t wake_timeout_ns)
-    : waitset_(participant), wake_timeout_ns_(wake_timeout_ns) {}
+IoThread::IoThread(const Participant& participant, std::int64_t wake_timeout_ns, Scheduling scheduling)
+    : waitset_(participant), wake_timeout_ns_(wake_timeout_ns), scheduling_(scheduling) {}
 
 IoThread::~IoThread() { Stop(); }
 
@@ -17,6 +17,7 @@ void IoThread::Start(Handlers handlers) {
   stop_ = false;
   thread_ = std::thread([this] { Run(); });
   common::NameThread(thread_, kThreadName);  // found by name for real-time priority
+  if (scheduling_ == Scheduling::kBatch) common::RunThreadInBatch(thread_);
 }
 
 void IoThread::Stop() {

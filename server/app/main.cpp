@@ -107,6 +107,7 @@ struct ServerFlags {
   std::string log_level = "info", sessions, dds_config, port_file, class_config, data_dir, record = "class";
   std::string directory, server_name = HostName(), peer_tls_ca;
   std::string tick_cpus;
+  std::string dds_io_scheduling = "batch";
   double peer_timeout_ms = 1000.0;
   double recording_flush_ms = 50.0, recording_fsync_ms = 0.0, checkpoint_every_s = 1.0, retention_days = 90.0;
   bool database_fsync = false;
@@ -178,6 +179,9 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
             "CPUs of the 1 kHz path, e.g. 0 or 2-3: the tick workers and pose receive threads run only\n"
             "there, every other thread (gRPC, viewers, web console, recording) only on the other CPUs; the\n"
             "tick pool defaults to one worker per tick CPU. Empty: no pinning");
+  flags.Add("dds-io-scheduling", &f->dds_io_scheduling,
+            "batch or normal: the thread that routes poses to sessions waits for DDS's receive thread to\n"
+            "finish (batch: fewer context switches per pose) or preempts it (normal). Moot with --rt-priority");
   flags.Add("max-message-bytes", &options->max_message_bytes, "largest gRPC request accepted [bytes]");
   flags.Add("dds-domain", &f->dds_domain, "DDS domain id");
   flags.Add("dds-config", &f->dds_config,
@@ -250,6 +254,13 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
     }
     options->tick_cpus = *cpus;
   }
+  if (f.dds_io_scheduling != "batch" && f.dds_io_scheduling != "normal") {
+    std::fprintf(stderr, "hapsim-server: --dds-io-scheduling: \"%s\" is neither batch nor normal\n",
+                 f.dds_io_scheduling.c_str());
+    return false;
+  }
+  options->dds_io_scheduling = f.dds_io_scheduling == "batch" ? hapsim::dds::IoThread::Scheduling::kBatch
+                                                              : hapsim::dds::IoThread::Scheduling::kNormal;
   options->sessions.tick_period_s = 1.0 / f.tick_hz;
   options->sessions.max_sessions = static_cast<std::size_t>(f.max_sessions);
   options->sessions.pose_timeout_s = f.pose_timeout_ms * 1e-3;

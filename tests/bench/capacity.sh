@@ -60,6 +60,9 @@
 #   RT_PRIORITY [0]                  --rt-priority of the server and
 #                                    hapsim-load (0: normal scheduling; not
 #                                    given to a baseline's older binaries)
+#   SERVER_FLAGS []                  more flags for this build's server (not a
+#                                    baseline's), e.g. "--dds-io-scheduling
+#                                    normal" to compare a setting side by side
 #   RECORDINGS [off]                 trial recording on the server, one series
 #                                    each, in this order: `off`, or `on`
 #                                    (--data-dir in the run's directory,
@@ -212,6 +215,9 @@ snapshot() {  # snapshot PID SUFFIX: server CPU (and per named thread), UDP coun
   local task
   for task in /proc/"$1"/task/*; do echo "$(cat "$task/comm" 2>/dev/null)|$(cat "$task/stat" 2>/dev/null)"; done \
       >"threads_$2.txt" || true
+  # Context switches (voluntary + involuntary) summed over the server's threads.
+  cat /proc/"$1"/task/*/status 2>/dev/null | awk '/^(non)?voluntary_ctxt_switches:/ {n += $2} END {print n}' \
+      >"ctxt_$2.txt" || true
   udp_counters "snmp_$2.txt"
   date +%s.%N >"wall_$2.txt"
   cut -d' ' -f1-3 /proc/loadavg >"loadavg_$2.txt"
@@ -247,6 +253,8 @@ run_one() {
   read -ra client_coding <<<"$(coding_flags "$coding" clients)"
   local client_load_clocks=("${load_clock_flags[@]}") server_rt=()
   [ "$RT_PRIORITY" = 0 ] || [ "$label" = baseline ] || server_rt=(--rt-priority "$RT_PRIORITY")
+  local server_extra=()
+  [ "$label" = baseline ] || read -r -a server_extra <<<"${SERVER_FLAGS:-}"
   if [ "$label" = baseline ]; then server_coding=() client_coding=(); fi  # an older build: every tick, its own flags
   local load_help
   load_help=$("$(client "$client_dir" hapsim-load)" --help 2>/dev/null || true)  # no pipe: grep -q would cut it
@@ -264,12 +272,13 @@ run_one() {
     echo "script=$SCRIPT"; echo "scene_params=$SCENE_PARAMS"; echo "domain=$domain"; echo "clk_tck=$(getconf CLK_TCK)"
     echo "server_bin=$server_dir/hapsim-server"; echo "client_dir=$client_dir"; echo "link=$link"
     echo "coding=$coding"; echo "recording=$recording"; echo "load_clocks=$LOAD_CLOCKS"; echo "rt_priority=$RT_PRIORITY"
+    echo "server_flags=${server_extra[*]}"
   } >run.env
   background before
   place "$link"
   "${on_server[@]}" taskset -c 0 "$server_dir/hapsim-server" --listen "$server_ip:0" --port-file port \
       --max-sessions 64 --dds-domain "$domain" "${dds_flags[@]}" "${server_coding[@]}" "${recording_flags[@]}" "${server_rt[@]}" \
-      >server.out 2>server.log &
+      "${server_extra[@]}" >server.out 2>server.log &
   server=$!; pids+=("$server")
   for _ in $(seq 1 150); do [ -s port ] && break; sleep 0.1; done
   if [ ! -s port ]; then

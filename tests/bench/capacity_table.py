@@ -14,6 +14,8 @@ before the clients start to just after they exit:
   watchdog           warnings / fades / disarms summed over devices ("-" if
                      the client does not count them)
   CPU per tick       server utime+stime delta / session-ticks (µs)
+  (CSV only)         context_switches_per_session_tick: the server threads'
+                     voluntary + involuntary switches delta / session-ticks
   UDP per tick       host Udp OutDatagrams delta / session-ticks
   RcvbufErrors       host Udp RcvbufErrors delta
 A row marked † ran while something else used the network: the host sent more
@@ -235,6 +237,11 @@ def run_row(run_dir):
         cpu = cpu_seconds(f"{run_dir}/stat_after.txt", clk) - cpu_seconds(f"{run_dir}/stat_before.txt", clk)
     except (OSError, IndexError, ValueError):
         pass
+    switches = None
+    try:
+        switches = int(open(f"{run_dir}/ctxt_after.txt").read()) - int(open(f"{run_dir}/ctxt_before.txt").read())
+    except (OSError, ValueError):
+        pass
     wall = None
     try:
         wall = float(open(f"{run_dir}/wall_after.txt").read()) - float(open(f"{run_dir}/wall_before.txt").read())
@@ -260,6 +267,7 @@ def run_row(run_dir):
         "models_received": sum(d["models"] for d in devices),
         "server_cpu_s": cpu,
         "cpu_us_per_session_tick": cpu * 1e6 / ticks if cpu is not None and ticks else None,
+        "context_switches_per_session_tick": switches / ticks if switches is not None and ticks else None,
         "udp_out": udp.get("OutDatagrams"),
         "udp_in": udp.get("InDatagrams"),
         "udp_per_session_tick": udp["OutDatagrams"] / ticks if udp and ticks else None,
@@ -360,7 +368,7 @@ if os.path.exists(f"{out}/notes.txt"):
 fields = ["mode", "server", "scene", "n", "failure", "devices", "devices_without_models", "sessions_listed",
           "session_ticks", "late_ticks", "late_pct", "rt_p50_ms", "rt_p99_ms", "rt_max_ms", "model_age_max_ms",
           "warnings", "fades", "disarms", "poses_sent", "models_received", "server_cpu_s",
-          "cpu_us_per_session_tick", "udp_out", "udp_in", "udp_per_session_tick", "rcvbuf_errors", "wall_s",
+          "cpu_us_per_session_tick", "context_switches_per_session_tick", "udp_out", "udp_in", "udp_per_session_tick", "rcvbuf_errors", "wall_s",
           "client_rc", "server_rc", "background_udp_per_s", "seconds", "round_trips"]
 with open(f"{out}/capacity.csv", "w", newline="") as f:
     writer = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")

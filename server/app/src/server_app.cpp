@@ -106,7 +106,7 @@ ServerApp::ServerApp(const ServerOptions& o) : policy_(o.classes ? AccessPolicy(
 }
 
 void ServerApp::AssembleParts(const ServerOptions& o) {
-  dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits);
+  dds_ = std::make_unique<ServerDds>(o.dds, o.pose_limits, o.dds_io_scheduling);
   spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
                dds_->instance());
   const int default_workers = o.tick_cpus.empty() ? DefaultWorkerCount() : static_cast<int>(o.tick_cpus.size());

@@ -88,12 +88,13 @@ std::uint64_t RandomInstanceId() {
 }
 }  // namespace
 
-ServerDds::ServerDds(const hapsim::dds::Options& options, PoseLimits limits)
+ServerDds::ServerDds(const hapsim::dds::Options& options, PoseLimits limits,
+                     hapsim::dds::IoThread::Scheduling io_scheduling)
     : participant_(options),
       instance_(RandomInstanceId()),
       limits_(limits),
       publications_(participant_),
-      io_(participant_) {}
+      io_(participant_, hapsim::dds::IoThread::kDefaultWakeTimeoutNs, io_scheduling) {}
 
 ServerDds::~ServerDds() { Stop(); }
 

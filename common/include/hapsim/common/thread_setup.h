@@ -28,6 +28,14 @@ void LowerThisThreadPriority(int nice = kBackgroundNice);
 // is counted. Falls back to LowerThisThreadPriority() if refused.
 void RunThisThreadOnlyWhenIdle();
 
+// SCHED_BATCH: the thread's share of the core is unchanged, but waking it
+// does not preempt the thread that woke it — it runs once that one blocks
+// or its slice ends. For a thread another wakes while holding a lock it
+// then needs (Cyclone's receive thread signals a waitset under its mutex):
+// preempting there only to block on that mutex costs two extra context
+// switches per wake. Refusal is ignored (it changes speed, not results).
+void RunThreadInBatch(std::thread& thread);  // a thread this one started (in effect when it returns)
+
 // At most 15 characters (the kernel's limit; longer names are cut).
 void NameThisThread(const char* name);
 // The same for a thread this one started (named before it returns, so a

@@ -24,8 +24,18 @@ class IoThread {
     std::function<void(dds_attach_t)> on_reader;   // a triggered reader's tag
   };
 
+  // How the thread is scheduled. kNormal: a sample's arrival preempts
+  // whatever runs on the core (the thread is woken by Cyclone's receive
+  // thread). kBatch: it waits until the receive thread blocks (common::
+  // RunThreadInBatch) and then takes every sample that arrived meanwhile
+  // in one wake — on a busy server, a fraction of the context switches
+  // (docs/performance.md, "The DDS thread waits its turn").
+  enum class Scheduling { kNormal, kBatch };
+
   // wake_timeout_ns: the thread wakes at least this often.
-  explicit IoThread(const Participant& participant, std::int64_t wake_timeout_ns = 5'000'000);
+  static constexpr std::int64_t kDefaultWakeTimeoutNs = 5'000'000;
+  explicit IoThread(const Participant& participant, std::int64_t wake_timeout_ns = kDefaultWakeTimeoutNs,
+                    Scheduling scheduling = Scheduling::kNormal);
   static constexpr const char* kThreadName = "dds-io";
   ~IoThread();
   IoThread(const IoThread&) = delete;
@@ -45,6 +55,7 @@ class IoThread {
 
   WaitSet waitset_;
   std::int64_t wake_timeout_ns_;
+  Scheduling scheduling_;
   Handlers handlers_;
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -47,6 +47,11 @@ struct ServerOptions {
   // only there, every other thread only on the process's other CPUs (and the
   // tick pool defaults to one worker per tick CPU). Empty: no pinning.
   std::vector<int> tick_cpus;
+  // The DDS thread that routes poses to their sessions: kBatch (default) lets
+  // Cyclone's receive thread finish before it runs, kNormal preempts it
+  // (two more context switches per wake; kept to measure the difference).
+  // With rt_priority both become SCHED_FIFO.
+  hapsim::dds::IoThread::Scheduling dds_io_scheduling = hapsim::dds::IoThread::Scheduling::kBatch;
   double quantum_m = 1e-5;  // viewer position quantisation (10 µm)
   int max_message_bytes = 1 << 20;  // larger requests are refused (RESOURCE_EXHAUSTED)
   hapsim::dds::Options dds;

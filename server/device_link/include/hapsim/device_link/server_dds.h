@@ -54,7 +54,10 @@ struct ServerDdsCounters {
 
 class ServerDds : public SessionTransport {
  public:
-  ServerDds(const hapsim::dds::Options& options, PoseLimits limits);
+  // io_scheduling: of the thread that takes the poses and wakes their
+  // sessions (IoThread::Scheduling; kBatch unless measuring the difference).
+  ServerDds(const hapsim::dds::Options& options, PoseLimits limits,
+            hapsim::dds::IoThread::Scheduling io_scheduling = hapsim::dds::IoThread::Scheduling::kBatch);
   ~ServerDds() override;
 
   void Start(SessionRegistry* registry, TickPool* pool);
