@@ -1,9 +1,10 @@
 #include "hapsim/core/assessment/ahp.h"
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <stdexcept>
 
-#include <Eigen/Eigenvalues>
+#include "hapsim/core/math/eigen_blocking.h"
 
 namespace hapsim::core::assessment {
 
@@ -15,6 +16,7 @@ double RandomIndex(int n) {
 }
 
 AhpResult AhpWeights(const Eigen::MatrixXd& a, double max_cr) {
+  PinEigenBlockingSizes();  // the weights the same on every server
   const auto n = a.rows();
   if (n != a.cols()) throw std::invalid_argument("a pairwise comparison matrix must be square");
   if (n < 1 || n > 10) throw std::invalid_argument("a pairwise comparison matrix must be 1..10 wide");

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "hapsim/core/math/eigen_blocking.h"
+
 namespace hapsim::core::assessment {
 
 Eigen::VectorXd DelphiWeights() {
@@ -11,6 +13,7 @@ Eigen::VectorXd DelphiWeights() {
 }
 
 ComprehensiveScoreResult ComprehensiveScores(const Eigen::MatrixXd& x, double mu) {
+  PinEigenBlockingSizes();  // a class's scores the same on every server
   if (x.cols() != kIndicatorCount) throw std::invalid_argument("scoring needs exactly 7 indicator columns");
   if (x.rows() == 0) throw std::invalid_argument("scoring needs at least one row of scores");
   if (!x.allFinite()) throw std::invalid_argument("indicator scores must be finite");

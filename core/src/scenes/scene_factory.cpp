@@ -2,6 +2,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "hapsim/core/math/eigen_blocking.h"
 #include "hapsim/core/scenes/acupuncture/acupuncture_params.h"
 #include "hapsim/core/scenes/cutting/cutting_params.h"
 #include "hapsim/core/scenes/scene.h"
@@ -58,7 +59,10 @@ std::vector<SceneDescription> SceneCatalog() {
 
 std::unique_ptr<Scene> MakeScene(const SceneSpec& spec) {
   for (const auto& e : kCatalog) {
-    if (spec.name == e.name) return e.build(spec.params);
+    if (spec.name == e.name) {
+      PinEigenBlockingSizes();  // every scene builds the same state on every CPU
+      return e.build(spec.params);
+    }
   }
   std::string known;
   for (const auto& e : kCatalog) known += std::string(known.empty() ? "" : ", ") + e.name;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hapsim/core/math/eigen_blocking.h"
 #include "hapsim/core/math/portable_math.h"
 
 namespace hapsim::core {
@@ -74,6 +75,7 @@ void MeasureShFitResidual(const Eigen::MatrixXd& y, const Eigen::Matrix3Xd& poin
 
 ShFitResult FitShSurface(int lmax, const Eigen::Matrix2Xd& theta_phi_rad, const Eigen::Matrix3Xd& points_m,
                          double max_condition_number) {
+  PinEigenBlockingSizes();  // the SVD's blocked products: the same bits on every CPU
   const RealShBasis basis(lmax);
   CheckShFitSamples(lmax, basis.Size(), theta_phi_rad, points_m);
   const Eigen::MatrixXd y = ShDesignMatrix(basis, theta_phi_rad);
