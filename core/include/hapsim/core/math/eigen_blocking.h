@@ -7,14 +7,14 @@
 // acupuncture scene's spherical-harmonic fit (an SVD of a 1 000 x 81 design
 // matrix) then ended in another golden hash. Pinning the sizes Eigen blocks
 // with to fixed values makes those products identical everywhere; only
-// their speed depends on the CPU then, by a few per cent at most.
+// their speed still depends on the CPU.
 #pragma once
 #include <cstddef>
 
 namespace hapsim::core {
 
 // The cache sizes every hapsim process tells Eigen (bytes): the L1 of the
-// host the golden hashes were first recorded on, and ordinary L2 / L3.
+// host the current golden hashes were recorded on, and ordinary L2 / L3.
 inline constexpr std::ptrdiff_t kEigenL1CacheBytes = 32 * 1024;
 inline constexpr std::ptrdiff_t kEigenL2CacheBytes = 1024 * 1024;
 inline constexpr std::ptrdiff_t kEigenL3CacheBytes = 32 * 1024 * 1024;
