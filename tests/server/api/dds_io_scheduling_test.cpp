@@ -3,10 +3,7 @@
 // instead of preempting it (ServerOptions::dds_io_scheduling).
 #include <gtest/gtest.h>
 #include <sched.h>
-#include <sys/types.h>
 
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +11,7 @@
 #include "hapsim/dds/io_thread.h"
 #include "hapsim/runtime/tick_pool.h"
 #include "test_dds_domain.h"
+#include "threads_of_this_process.h"
 
 namespace hapsim::service {
 namespace {
@@ -22,12 +20,8 @@ namespace {
 // this process with that name.
 std::vector<int> PoliciesOfThreadsNamed(const std::string& wanted) {
   std::vector<int> policies;
-  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
-    std::ifstream comm(task.path() / "comm");
-    std::string name;
-    if (!std::getline(comm, name) || name != wanted) continue;
-    policies.push_back(sched_getscheduler(static_cast<pid_t>(std::stol(task.path().filename().string()))));
-  }
+  for (const auto& t : test::ThreadsOfThisProcess())
+    if (t.name == wanted) policies.push_back(sched_getscheduler(t.tid));
   return policies;
 }
 

@@ -4,8 +4,6 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -15,6 +13,7 @@
 #include "hapsim/runtime/tick_pool.h"
 #include "hapsim/v1/session.grpc.pb.h"
 #include "test_dds_domain.h"
+#include "threads_of_this_process.h"
 
 namespace hapsim::service {
 namespace {
@@ -24,14 +23,9 @@ struct ThreadCpus {
   std::vector<int> cpus;
 };
 
-std::vector<ThreadCpus> ThreadsOfThisProcess() {
+std::vector<ThreadCpus> CpusOfEachThread() {
   std::vector<ThreadCpus> threads;
-  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
-    std::ifstream comm(task.path() / "comm");
-    std::string name;
-    if (!std::getline(comm, name)) continue;
-    threads.push_back({name, common::CpusOfThread(std::stoi(task.path().filename().string()))});
-  }
+  for (const auto& t : test::ThreadsOfThisProcess()) threads.push_back({t.name, common::CpusOfThread(t.tid)});
   return threads;
 }
 
@@ -61,7 +55,7 @@ TEST(TickCpusTest, TheTickPathRunsOnlyOnItsCpusAndEveryOtherThreadOnlyElsewhere)
   ASSERT_TRUE(sessions->CreateSession(&ctx, req, &info).ok());
 
   int tick_path = 0, others = 0;
-  for (const auto& t : ThreadsOfThisProcess()) {
+  for (const auto& t : CpusOfEachThread()) {
     if (OnTickPath(t.name)) {
       ++tick_path;
       EXPECT_EQ(t.cpus, std::vector<int>{tick_cpu}) << t.name;

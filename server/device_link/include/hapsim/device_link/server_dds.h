@@ -55,9 +55,8 @@ struct ServerDdsCounters {
 class ServerDds : public SessionTransport {
  public:
   // io_scheduling: of the thread that takes the poses and wakes their
-  // sessions (IoThread::Scheduling; kBatch unless measuring the difference).
-  ServerDds(const hapsim::dds::Options& options, PoseLimits limits,
-            hapsim::dds::IoThread::Scheduling io_scheduling = hapsim::dds::IoThread::Scheduling::kBatch);
+  // sessions (IoThread::Scheduling; ServerOptions::dds_io_scheduling).
+  ServerDds(const hapsim::dds::Options& options, PoseLimits limits, hapsim::dds::IoThread::Scheduling io_scheduling);
   ~ServerDds() override;
 
   void Start(SessionRegistry* registry, TickPool* pool);
