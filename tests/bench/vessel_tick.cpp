@@ -6,6 +6,9 @@
 // per tick. Command and figures: docs/performance.md#vessel.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "hapsim/core/meshless/meshless_forces.h"
 #include "hapsim/core/scenes/vessel/vessel_scene.h"
 
@@ -57,6 +60,32 @@ BENCHMARK(BM_VesselTick_Pressed1mm)
     ->ArgsProduct({{0, 1, 2}, {30, 70}, {1}})
     ->Args({0, 70, 2})
     ->Unit(benchmark::kMicrosecond);
+
+// A trainee's press cycle, as hapsim-load's `insertion` script drives it:
+// from 10 mm above the crest down at 10 mm/s to 5 mm past first touch (the
+// probe stops on the flattened vein), held 0.5 s, back up at 10 mm/s; one
+// tick per iteration, the cycle repeating. Arg: rest_speed_m_per_s x 1e6
+// (0: the full step every tick; 10: the default, the wall sleeps when still).
+void BM_VesselTick_InsertionCycle(benchmark::State& state) {
+  VesselParams p = Vein(0, 30.0);
+  p.rest_speed_m_per_s = 1e-6 * static_cast<double>(state.range(0));
+  VesselScene s(p);
+  const double touch_m = s.Nodes_m().row(2).maxCoeff() + p.probe_radius_m;
+  constexpr double kSpeed_m_per_s = 10e-3, kAbove_m = 10e-3, kDepth_m = 5e-3, kHold_s = 0.5;
+  constexpr double kDown_s = (kAbove_m + kDepth_m) / kSpeed_m_per_s, kCycle_s = 2.0 * kDown_s + kHold_s;
+  long tick = 0, asleep = 0;
+  for (auto _ : state) {
+    const double t_s = std::fmod(1e-3 * static_cast<double>(tick++), kCycle_s);
+    const double below_top_m = kSpeed_m_per_s * std::min({t_s, kDown_s, kCycle_s - t_s});
+    s.Step(ProbeAt(touch_m + kAbove_m - below_top_m), 1e-3);
+    asleep += s.Asleep() ? 1 : 0;
+    benchmark::DoNotOptimize(s.ToolForce_W_N());
+  }
+  state.counters["asleep_pct"] = 100.0 * static_cast<double>(asleep) / static_cast<double>(std::max(tick, 1L));
+  state.counters["resets"] = static_cast<double>(s.Status().numerical_resets);
+}
+// 7 000 iterations: two whole cycles.
+BENCHMARK(BM_VesselTick_InsertionCycle)->Arg(0)->Arg(10)->Iterations(7000)->Unit(benchmark::kMicrosecond);
 
 // The paper's scale: a vein of ~100k nodes (0.1 mm spacing, 4 radial
 // layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the target is

@@ -170,7 +170,14 @@ ParamTable<VesselParams> MakeVesselTable() {
             .max = 1e6,
             .min_open = true,
             .description = "a step above this kinetic energy is a blow-up: counted, and the scene resets"},
-           &P::max_kinetic_energy_J);
+           &P::max_kinetic_energy_J)
+      .Add({.name = "rest_speed_m_per_s",
+            .unit = "m/s",
+            .min = 0,
+            .max = 1e-3,
+            .description = "the wall sleeps (its step skipped) once every node is slower than this and the tip still "
+                           "or out of reach; 0 = the full step every tick"},
+           &P::rest_speed_m_per_s);
   return t;
 }
 

@@ -109,6 +109,7 @@ VesselScene::VesselScene(const VesselParams& params)
   OrientLumenPressure();
   Inflate();
   MeasureSettledCurve();  // ~0.4 s for the vein
+  sleep_allowed_ = params_.rest_speed_m_per_s > 0.0;
   Reset();
   // The build's own press and reset are not the session's.
   outputs_.events = EventLog();
@@ -340,7 +341,7 @@ void VesselScene::VesselConstraints::Project(Eigen::Matrix3Xd& x_m, const Eigen:
 }
 
 bool VesselScene::Advance(bool tool_ok, double h_s) {
-  FindContactCandidates(tool_ok);
+  FindContactCandidates(tool_ok, MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n));
   // 1. Elastic forces as the step's external forces, and the lumen's pressure.
   ComputeElasticForces();
   AddLumenPressure();
@@ -349,17 +350,57 @@ bool VesselScene::Advance(bool tool_ok, double h_s) {
   StepXpbd(wall_model_, wall_, h_s, &extra);
   // The contact force on the tool; the blow-up guard.
   SumToolContactForce(h_s);
-  const double kinetic_J = WallKineticEnergy_J();
+  const WallMotion motion = MeasureWallMotion();
   time_s_ += h_s;
-  return std::isfinite(kinetic_J) && kinetic_J <= params_.max_kinetic_energy_J;
+  if (!(std::isfinite(motion.kinetic_J) && motion.kinetic_J <= params_.max_kinetic_energy_J)) return false;
+  CountQuietStep(motion);
+  return true;
+}
+
+// A step is quiet when every node moved slower than rest_speed_m_per_s and
+// the tip either stood still or touched nothing: the next step would then
+// move the wall by less than that as well, as long as the tip does not
+// move within reach.
+void VesselScene::CountQuietStep(const WallMotion& motion) {
+  if (!sleep_allowed_) return;
+  const bool tip_moved = tip_W_m_ != tip_at_step_start_W_m_;
+  const bool quiet =
+      motion.max_speed_m_per_s < params_.rest_speed_m_per_s && (!tip_moved || outputs_.tool_force_W_N.isZero(0.0));
+  quiet_steps_ = quiet ? quiet_steps_ + 1 : 0;
+  if (quiet_steps_ >= kQuietStepsToSleep) FallAsleep();
+}
+
+// The wall stands still from here (velocities zero, like a resting node),
+// and keeps the contact force of its last step.
+void VesselScene::FallAsleep() {
+  asleep_ = true;
+  quiet_steps_ = 0;
+  wall_.v_m_per_s.setZero();
+  sleep_tip_W_m_ = tip_W_m_;
+  sleep_contact_force_W_N_ = outputs_.tool_force_W_N;
+  contact_at_sleep_ = !sleep_contact_force_W_N_.isZero(0.0);
+  sleep_max_displacement_m_ = MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
+}
+
+// Asleep in a contact, the wall wakes when the tip moves or the tool is
+// lost (the contact changes); asleep without one, when the probe sphere
+// reaches a node (the step would push it out).
+bool VesselScene::StaysAsleep(bool tool_ok) {
+  if (contact_at_sleep_) return tool_ok && tip_W_m_ == sleep_tip_W_m_;
+  FindContactCandidates(tool_ok, sleep_max_displacement_m_);
+  const double r2 = params_.probe_radius_m * params_.probe_radius_m;
+  for (const std::uint32_t i : candidates_) {
+    if ((wall_.x_m.col(i) - tip_W_m_).squaredNorm() < r2) return false;
+  }
+  return true;
 }
 
 // Contact candidates: nodes whose rest position is within the probe radius
 // plus the largest displacement of any node (so none currently inside is missed).
-void VesselScene::FindContactCandidates(bool tool_ok) {
+void VesselScene::FindContactCandidates(bool tool_ok, double max_displacement_m) {
   candidates_.clear();
   if (!tool_ok) return;
-  const double reach_m = params_.probe_radius_m + MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
+  const double reach_m = params_.probe_radius_m + max_displacement_m;
   rest_grid_.ForEachWithin(geometry_.nodes_m, tip_W_m_, reach_m, [&](std::uint32_t i) {
     if (!model_.fixed[i]) candidates_.push_back(i);
   });
@@ -399,11 +440,14 @@ void VesselScene::SumToolContactForce(double h_s) {
   }
 }
 
-double VesselScene::WallKineticEnergy_J() const {
-  double kinetic_J = 0.0;
-  for (std::int32_t i = 0; i < model_.n; ++i)
-    kinetic_J += 0.5 * model_.mass_kg[i] * wall_.v_m_per_s.col(i).squaredNorm();
-  return kinetic_J;
+VesselScene::WallMotion VesselScene::MeasureWallMotion() const {
+  double kinetic_J = 0.0, max_speed2 = 0.0;
+  for (std::int32_t i = 0; i < model_.n; ++i) {
+    const double speed2 = wall_.v_m_per_s.col(i).squaredNorm();
+    kinetic_J += 0.5 * model_.mass_kg[i] * speed2;
+    max_speed2 = std::max(max_speed2, speed2);
+  }
+  return {kinetic_J, std::sqrt(max_speed2)};
 }
 
 void VesselScene::Step(const ToolInput& tool, double dt_s) {
@@ -412,6 +456,7 @@ void VesselScene::Step(const ToolInput& tool, double dt_s) {
   if (tool_ok && !tip_placed_) tip_W_m_ = tool.tip_W_m, tip_placed_ = true;
 
   const double h_s = dt_s / params_.substeps;
+  bool stepped = false;
   for (int k = 0; k < params_.substeps; ++k) {
     tip_at_step_start_W_m_ = tip_W_m_;
     if (tool_ok) {  // toward the device's tip, at most kMaxTipTravelPerStep_m
@@ -423,12 +468,19 @@ void VesselScene::Step(const ToolInput& tool, double dt_s) {
       // through the sphere (it did: the probe ended in the lumen).
       tip_W_m_.z() = std::max(tip_W_m_.z(), probe_floor_z_m_);
     }
+    if (asleep_ && StaysAsleep(tool_ok)) {
+      time_s_ += h_s;
+      continue;
+    }
+    asleep_ = false;
+    stepped = true;
     if (!Advance(tool_ok, h_s)) {
       RecoverFromBlowup();
       break;
     }
   }
-  MapSurface(surface_map_, wall_.x_m, surface_m_);
+  if (stepped) MapSurface(surface_map_, wall_.x_m, surface_m_);
+  if (asleep_) outputs_.tool_force_W_N = sleep_contact_force_W_N_;
   UpdateOutputs(tool, tool_ok);
 }
 
@@ -554,6 +606,8 @@ void VesselScene::MeasureSettledCurve() {
 void VesselScene::RecoverFromBlowup() {
   wall_.x_m = inflated_m_;  // same sizes: copies, no allocation
   wall_.v_m_per_s.setZero();
+  asleep_ = false;
+  quiet_steps_ = 0;
   outputs_.tool_force_W_N.setZero();
   LogNumericalReset(time_s_);
 }
@@ -567,6 +621,8 @@ void VesselScene::Reset() {
   time_s_ = 0.0;
   was_in_contact_ = false;
   ticks_without_force_ = 0;
+  asleep_ = false;
+  quiet_steps_ = 0;
   strain_energy_J_ = 0.0;
   surface_m_ = geometry_.surface_m;
   FinishReset();
@@ -577,6 +633,9 @@ std::uint64_t VesselScene::StateHash() const {
   AddCommonSceneState(h, *this, outputs_.reset_epoch);
   // The surface is a function of the nodes; λ and the candidates are per-step scratch.
   h.Add(wall_.x_m).Add(wall_.v_m_per_s).Add(tip_W_m_).Add(tip_placed_).Add(was_in_contact_).Add(ticks_without_force_);
+  h.Add(asleep_).Add(quiet_steps_);
+  if (asleep_)
+    h.Add(contact_at_sleep_).Add(sleep_tip_W_m_).Add(sleep_contact_force_W_N_).Add(sleep_max_displacement_m_);
   return h.Value();
 }
 

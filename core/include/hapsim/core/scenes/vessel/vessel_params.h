@@ -106,6 +106,12 @@ struct VesselParams {
   double contact_stiffness_N_per_m = 2000.0;  // XPBD compliance of the tip-node contact = its inverse
   double render_stiffness_max_N_per_m = 1000.0;
   double max_kinetic_energy_J = 1.0;   // a step above this is a blow-up: counted, the scene resets
+  // The wall sleeps — its step is skipped, its state kept — once every node
+  // has moved slower than this for kQuietStepsToSleep steps while the tip
+  // stood still or was out of the wall's reach; it wakes when the tip moves
+  // within reach, or leaves a contact. 0: the full step every tick. The
+  // error against the full step: docs/validation.md#vessel.
+  double rest_speed_m_per_s = 1e-5;
 };
 
 const ParamTable<VesselParams>& VesselParamTable();

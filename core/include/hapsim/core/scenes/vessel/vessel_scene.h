@@ -91,8 +91,14 @@ class VesselScene final : public SceneWithOutputs {
   // reaches past the rest outer surface of the nearest station (< 0: clear).
   double DepthIntoRestWall_m(const Eigen::Vector3d& tip_W_m) const;
 
+  // Whether the wall sleeps (VesselParams::rest_speed_m_per_s): its step is
+  // skipped and its state kept until the tip wakes it.
+  bool Asleep() const { return asleep_; }
+
   // Largest travel of the physics' tip in one physics step [m] (20 mm/s at 1 kHz).
   static constexpr double kMaxTipTravelPerStep_m = 2e-5;
+  // Quiet steps in a row before the wall sleeps.
+  static constexpr int kQuietStepsToSleep = 20;
 
  private:
   // The constraints this scene projects in each XPBD sweep after the
@@ -122,10 +128,22 @@ class VesselScene final : public SceneWithOutputs {
   void AddLumenPressure();                 // the pressure's nodal forces on the inner wall, into wall_.f_ext_N
   bool Advance(bool tool_ok, double h_s);  // false: blew up
   // Advance's steps, in order (StepXpbd between the forces and the tool's force).
-  void FindContactCandidates(bool tool_ok);  // candidates_
+  // candidates_: nodes that may be inside the probe, given the largest
+  // displacement of any node from rest.
+  void FindContactCandidates(bool tool_ok, double max_displacement_m);
   void ComputeElasticForces();               // into wall_.f_ext_N, strain_energy_J_
   void SumToolContactForce(double h_s);      // outputs_.tool_force_W_N
-  double WallKineticEnergy_J() const;
+  struct WallMotion {
+    double kinetic_J = 0.0;
+    double max_speed_m_per_s = 0.0;
+  };
+  WallMotion MeasureWallMotion() const;
+  // Sleeping (rest_speed_m_per_s > 0): after a step, counts it quiet or
+  // not and lets the wall sleep; before a step, whether the sleeping wall
+  // stays asleep (the tip neither reaches a node nor leaves its contact).
+  void CountQuietStep(const WallMotion& motion);
+  void FallAsleep();
+  bool StaysAsleep(bool tool_ok);
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
 
@@ -164,6 +182,16 @@ class VesselScene final : public SceneWithOutputs {
   double time_s_ = 0.0;
   bool was_in_contact_ = false;
   int ticks_without_force_ = 0;
+  // Sleep: off while the build inflates and presses the wall (its curve
+  // and rest state are the full step's). While asleep the wall's x and v
+  // (zero) are kept, and so is the contact force it gave when it fell asleep.
+  bool sleep_allowed_ = false;
+  bool asleep_ = false;
+  int quiet_steps_ = 0;
+  bool contact_at_sleep_ = false;
+  Eigen::Vector3d sleep_tip_W_m_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sleep_contact_force_W_N_ = Eigen::Vector3d::Zero();
+  double sleep_max_displacement_m_ = 0.0;
 
   // Scratch (sized at build; pure functions of the state within a step).
   std::vector<Eigen::Matrix3d> F_;
