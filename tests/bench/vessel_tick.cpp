@@ -24,6 +24,9 @@ VesselParams Vein(int model, double length_mm, int substeps = VesselParams{}.sub
   return p;
 }
 
+// The server takes the display surface for its viewers every 16 ticks (60 frames/s).
+constexpr int kTicksPerFrame = 16;
+
 ToolInput ProbeAt(double z_m) {
   ToolInput t;
   t.valid = true;
@@ -34,7 +37,7 @@ ToolInput ProbeAt(double z_m) {
 // The timed loop of both tick benchmarks: the probe approaches the crest at
 // 5 mm/s from 0.2 mm above, is pressed 1 mm in, then wobbles by 1 µm so each
 // tick has work to do (contact candidates, sweeps, the whole wall moving).
-void TickPressed1mm(benchmark::State& state, VesselScene& s) {
+void TickPressed1mm(benchmark::State& state, VesselScene& s, int ticks_per_frame = kTicksPerFrame) {
   const double crest_m = s.Nodes_m().row(2).maxCoeff();
   const double probe_m = s.Params().probe_radius_m;
   const double press_m = crest_m + probe_m - 1e-3;
@@ -43,6 +46,7 @@ void TickPressed1mm(benchmark::State& state, VesselScene& s) {
   for (auto _ : state) {
     s.Step(ProbeAt(press_m - 1e-6 * (k++ % 2)), 1e-3);
     benchmark::DoNotOptimize(s.ToolForce_W_N());
+    if (k % ticks_per_frame == 0) benchmark::DoNotOptimize(s.Vertices_m().data());
   }
   state.counters["nodes"] = static_cast<double>(s.Nodes_m().cols());
   state.counters["force_N"] = s.ToolForce_W_N().norm();  // 0: the probe lost the wall
@@ -80,12 +84,22 @@ void BM_VesselTick_InsertionCycle(benchmark::State& state) {
     s.Step(ProbeAt(touch_m + kAbove_m - below_top_m), 1e-3);
     asleep += s.Asleep() ? 1 : 0;
     benchmark::DoNotOptimize(s.ToolForce_W_N());
+    if (tick % kTicksPerFrame == 0) benchmark::DoNotOptimize(s.Vertices_m().data());
   }
   state.counters["asleep_pct"] = 100.0 * static_cast<double>(asleep) / static_cast<double>(std::max(tick, 1L));
   state.counters["resets"] = static_cast<double>(s.Status().numerical_resets);
 }
 // 7 000 iterations: two whole cycles.
 BENCHMARK(BM_VesselTick_InsertionCycle)->Arg(0)->Arg(10)->Iterations(7000)->Unit(benchmark::kMicrosecond);
+
+// The same with the display surface taken every tick: what a tick cost when
+// the scene mapped its surface in every step (the baseline of the
+// on-demand surface).
+void BM_VesselTick_Pressed1mm_SurfaceEveryTick(benchmark::State& state) {
+  VesselScene s(Vein(0, 30.0));
+  TickPressed1mm(state, s, 1);
+}
+BENCHMARK(BM_VesselTick_Pressed1mm_SurfaceEveryTick)->Unit(benchmark::kMicrosecond);
 
 // The paper's scale: a vein of ~100k nodes (0.1 mm spacing, 4 radial
 // layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the target is

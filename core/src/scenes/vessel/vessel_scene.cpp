@@ -479,9 +479,15 @@ void VesselScene::Step(const ToolInput& tool, double dt_s) {
       break;
     }
   }
-  if (stepped) MapSurface(surface_map_, wall_.x_m, surface_m_);
+  surface_stale_ = surface_stale_ || stepped;
   if (asleep_) outputs_.tool_force_W_N = sleep_contact_force_W_N_;
   UpdateOutputs(tool, tool_ok);
+}
+
+const Eigen::Matrix3Xd& VesselScene::Vertices_m() const {
+  if (surface_stale_) MapSurface(surface_map_, wall_.x_m, surface_m_);
+  surface_stale_ = false;
+  return surface_m_;
 }
 
 double VesselScene::SkinForce_N(const Eigen::Vector3d& tip_W_m) const {
@@ -624,7 +630,7 @@ void VesselScene::Reset() {
   asleep_ = false;
   quiet_steps_ = 0;
   strain_energy_J_ = 0.0;
-  surface_m_ = geometry_.surface_m;
+  surface_stale_ = true;  // the inflated wall's
   FinishReset();
 }
 

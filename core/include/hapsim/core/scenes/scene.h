@@ -85,7 +85,9 @@ class Scene {
   // the column count never changes after construction, and only the slots
   // live in Topology() mean anything), and its connectivity in stable slots
   // with parts and the log of every edit (cuts, punctures that remesh,
-  // resets), from which viewers are updated incrementally.
+  // resets), from which viewers are updated incrementally. A scene may bring
+  // its display up to date only when asked (viewers want it at frame rate,
+  // not every tick): call it from the thread that steps the scene.
   virtual const Eigen::Matrix3Xd& Vertices_m() const = 0;
   virtual const MeshTopology& Topology() const = 0;
 

@@ -68,7 +68,7 @@ class VesselScene final : public SceneWithOutputs {
   void Step(const ToolInput& tool, double dt_s) override;
   void Reset() override;
   double SimTime_s() const override { return time_s_; }
-  const Eigen::Matrix3Xd& Vertices_m() const override { return surface_m_; }
+  const Eigen::Matrix3Xd& Vertices_m() const override;  // the MLS map of the nodes, mapped when asked
   const MeshTopology& Topology() const override { return topology_; }
   std::uint64_t StateHash() const override;
   std::unique_ptr<const Scene> SaveState() const override { return std::make_unique<const VesselScene>(*this); }
@@ -199,7 +199,10 @@ class VesselScene final : public SceneWithOutputs {
   std::vector<std::uint32_t> candidates_;
   std::vector<double> contact_lambda_;
   double strain_energy_J_ = 0.0;
-  Eigen::Matrix3Xd surface_m_;
+  // The display surface, mapped from the nodes when Vertices_m() is asked
+  // after a step moved them (~9 % of a tick: viewers take it at frame rate).
+  mutable Eigen::Matrix3Xd surface_m_;
+  mutable bool surface_stale_ = false;
 
   MeshTopology topology_;
 };
