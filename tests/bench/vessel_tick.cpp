@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <vector>
 
 #include "hapsim/core/meshless/meshless_forces.h"
 #include "hapsim/core/scenes/vessel/vessel_scene.h"
@@ -65,41 +67,58 @@ BENCHMARK(BM_VesselTick_Pressed1mm)
     ->Args({0, 70, 2})
     ->Unit(benchmark::kMicrosecond);
 
-// A trainee's press cycle, as hapsim-load's `insertion` script drives it:
+// A class's press cycles, as hapsim-load's `insertion` script drives them:
 // from 10 mm above the crest down at 10 mm/s to 5 mm past first touch (the
-// probe stops on the flattened vein), held 0.5 s, back up at 10 mm/s; one
-// tick per iteration, the cycle repeating. Arg: rest_speed_m_per_s x 1e6
-// (0: the full step every tick; 10: the default, the wall sleeps when still).
+// probe stops on the flattened vein), held 0.5 s, back up at 10 mm/s; the
+// cycle repeats. Args: rest_speed_m_per_s x 1e6 (0: the full step every
+// tick; 10: the default, the wall sleeps when still), and the number of
+// veins (sessions) stepped one after the other in each iteration, their
+// cycles 0.25 s apart — with several, their data no longer stays in the
+// core's cache between ticks, as on a server. Time per iteration / veins =
+// time per session-tick (counter us_per_session_tick).
 void BM_VesselTick_InsertionCycle(benchmark::State& state) {
   VesselParams p = Vein(0, 30.0);
   p.rest_speed_m_per_s = 1e-6 * static_cast<double>(state.range(0));
-  VesselScene s(p);
-  const double touch_m = s.Nodes_m().row(2).maxCoeff() + p.probe_radius_m;
+  const auto veins = static_cast<int>(state.range(1));
+  std::vector<std::unique_ptr<VesselScene>> scenes;
+  for (int v = 0; v < veins; ++v) scenes.push_back(std::make_unique<VesselScene>(p));
+  const double touch_m = scenes[0]->Nodes_m().row(2).maxCoeff() + p.probe_radius_m;
   constexpr double kSpeed_m_per_s = 10e-3, kAbove_m = 10e-3, kDepth_m = 5e-3, kHold_s = 0.5;
   constexpr double kDown_s = (kAbove_m + kDepth_m) / kSpeed_m_per_s, kCycle_s = 2.0 * kDown_s + kHold_s;
   long tick = 0, asleep = 0;
   for (auto _ : state) {
-    const double t_s = std::fmod(1e-3 * static_cast<double>(tick++), kCycle_s);
-    const double below_top_m = kSpeed_m_per_s * std::min({t_s, kDown_s, kCycle_s - t_s});
-    s.Step(ProbeAt(touch_m + kAbove_m - below_top_m), 1e-3);
-    asleep += s.Asleep() ? 1 : 0;
-    benchmark::DoNotOptimize(s.ToolForce_W_N());
-    if (tick % kTicksPerFrame == 0) benchmark::DoNotOptimize(s.Vertices_m().data());
+    for (int v = 0; v < veins; ++v) {
+      VesselScene& s = *scenes[static_cast<std::size_t>(v)];
+      const double t_s = std::fmod(1e-3 * static_cast<double>(tick) + 0.25 * v, kCycle_s);
+      const double below_top_m = kSpeed_m_per_s * std::min({t_s, kDown_s, kCycle_s - t_s});
+      s.Step(ProbeAt(touch_m + kAbove_m - below_top_m), 1e-3);
+      asleep += s.Asleep() ? 1 : 0;
+      benchmark::DoNotOptimize(s.ToolForce_W_N());
+      if (tick % kTicksPerFrame == 0) benchmark::DoNotOptimize(s.Vertices_m().data());
+    }
+    ++tick;
   }
-  state.counters["asleep_pct"] = 100.0 * static_cast<double>(asleep) / static_cast<double>(std::max(tick, 1L));
-  state.counters["resets"] = static_cast<double>(s.Status().numerical_resets);
+  const double session_ticks = static_cast<double>(std::max(tick, 1L) * veins);
+  state.counters["asleep_pct"] = 100.0 * static_cast<double>(asleep) / session_ticks;
+  state.counters["us_per_session_tick"] = benchmark::Counter(
+      static_cast<double>(veins) * 1e-6, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 // 7 000 iterations: two whole cycles.
-BENCHMARK(BM_VesselTick_InsertionCycle)->Arg(0)->Arg(10)->Iterations(7000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_VesselTick_InsertionCycle)
+    ->ArgsProduct({{0, 10}, {1, 4}})
+    ->Iterations(7000)
+    ->Unit(benchmark::kMicrosecond);
 
-// The same with the display surface taken every tick: what a tick cost when
-// the scene mapped its surface in every step (the baseline of the
-// on-demand surface).
-void BM_VesselTick_Pressed1mm_SurfaceEveryTick(benchmark::State& state) {
+// The default vein pressed 1 mm with the display surface taken every
+// `arg` ticks: 1 is what a tick cost when the scene mapped its surface in
+// every step (the baseline of the on-demand surface), 16 the server's frame
+// rate. A fixed 2 000 ticks, so that `valgrind --tool=callgrind` on the two
+// counts the same work besides the surface (docs/performance.md#vessel).
+void BM_VesselTick_Pressed1mm_SurfaceEvery(benchmark::State& state) {
   VesselScene s(Vein(0, 30.0));
-  TickPressed1mm(state, s, 1);
+  TickPressed1mm(state, s, static_cast<int>(state.range(0)));
 }
-BENCHMARK(BM_VesselTick_Pressed1mm_SurfaceEveryTick)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_VesselTick_Pressed1mm_SurfaceEvery)->Arg(1)->Arg(16)->Iterations(2000)->Unit(benchmark::kMicrosecond);
 
 // The paper's scale: a vein of ~100k nodes (0.1 mm spacing, 4 radial
 // layers, 28 mm: 281 stations x 91 x 4 = 102 284 nodes); the target is

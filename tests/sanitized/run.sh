@@ -47,10 +47,14 @@ cd "$build"
 # scene at its largest accepted mesh (138 s: it builds each scene's biggest mesh; the encoder runs here on
 # every scene's default mesh), and the cutting scene's resting-skin
 # comparisons with the full step (two scenes side by side over 4-6 s of
-# strokes; the resting skin itself runs here in every cutting test).
+# strokes; the resting skin itself runs here in every cutting test), and the
+# sleeping vessel's tests (each builds one or two veins, 10-60 s apiece under
+# ASan; the sleep runs in the release ctest only: the vessel tests kept here
+# press without pause, so their wall never sleeps).
 slow='Meshless\.UniaxialTension|SceneContract\..*vessel|EveryScene\..*vessel|SceneParams\..*vessel'
 slow+='|VesselScene\.(EveryShapeBuilds|PressedTwoMillimetres|ALateTicksJump|TheDeviceIsAsStiff|ALightTouch|PressedPastTheFlattenedVein|LetGoAtOnce)'
 slow+='|VesselScene\.(APressOnTheTop|ABlowUpIsCounted)|KeyframeSize\.EverySceneAtItsLargest|CuttingResting\.(Every|ADeepCut)'
 slow+='|VesselBaselines\.APressPushesBackAndTicksAllocateNothing/3|AcupunctureSceneTest\.WithdrawingFromAnyDepth'
+slow+='|VesselSleep\.'
 ctest --output-on-failure --timeout 600 -j "$jobs" -L '^(core|io|common|dds|wire|server/.*|device-bridge/.*|client-viewer)$' \
     -E "$slow"

@@ -22,7 +22,15 @@
 // instead of hitting the scaled masses at once; it never goes below where
 // the vessel's two flattened walls would lie on the bed.
 // The display surface (outer wall and lumen) follows the nodes through the
-// MLS map (meshless/mls_surface_map.h), precomputed at rest.
+// MLS map (meshless/mls_surface_map.h), precomputed at rest, mapped when
+// Vertices_m() is asked.
+//
+// The wall sleeps (VesselParams::rest_speed_m_per_s): once every node has
+// moved slower than the rest speed for kQuietStepsToSleep steps while the
+// tip stood still or touched nothing, steps are skipped and the wall kept
+// as it stands (velocities zero) until the probe sphere reaches a node or,
+// asleep under the probe, the tip moves or the tool is lost. It neglects
+// at most rest speed / damping of creep (docs/validation.md#vessel).
 //
 // Force on the device: the sum of the contact forces on the tool, plus the
 // skin over the vessel (VesselParams::skin: a half-space of the tissue the
