@@ -174,9 +174,9 @@ ParamTable<VesselParams> MakeVesselTable() {
       .Add({.name = "rest_speed_m_per_s",
             .unit = "m/s",
             .min = 0,
-            .max = 1e-3,
+            .max = 1e-5,
             .description = "the wall sleeps (its step skipped) once every node is slower than this and the tip still "
-                           "or out of reach; 0 = the full step every tick"},
+                           "or out of reach; 0 = the full step every tick (error vs the full step measured up to 1e-5)"},
            &P::rest_speed_m_per_s);
   return t;
 }
