@@ -108,9 +108,9 @@ struct VesselParams {
   double max_kinetic_energy_J = 1.0;   // a step above this is a blow-up: counted, the scene resets
   // The wall sleeps — its step is skipped, its state kept — once every node
   // has moved slower than this for kQuietStepsToSleep steps while the tip
-  // stood still or was out of the wall's reach; it wakes when the tip moves
-  // within reach, or leaves a contact. 0: the full step every tick. The
-  // error against the full step: docs/validation.md#vessel.
+  // stood still or touched nothing; it wakes when the probe sphere reaches a
+  // node, or when the tip moves or the tool is lost in a contact. 0: the full
+  // step every tick. The error against the full step: docs/validation.md#vessel.
   double rest_speed_m_per_s = 1e-5;
 };
 
