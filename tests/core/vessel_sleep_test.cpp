@@ -1,6 +1,6 @@
 // The vessel wall sleeps (VesselParams::rest_speed_m_per_s): once every node
 // has moved slower than the rest speed for kQuietStepsToSleep steps with the
-// tip still or out of reach, its step is skipped until the tip wakes it.
+// tip still or touching nothing, its step is skipped until the tip wakes it.
 // Checked against the full step (rest_speed_m_per_s = 0) driven by the same
 // poses, side by side.
 //

@@ -378,7 +378,6 @@ void VesselScene::FallAsleep() {
   wall_.v_m_per_s.setZero();
   sleep_tip_W_m_ = tip_W_m_;
   sleep_contact_force_W_N_ = outputs_.tool_force_W_N;
-  contact_at_sleep_ = !sleep_contact_force_W_N_.isZero(0.0);
   sleep_max_displacement_m_ = MaxDisplacement_m(wall_.x_m, geometry_.nodes_m, {}, model_.n);
 }
 
@@ -386,7 +385,7 @@ void VesselScene::FallAsleep() {
 // lost (the contact changes); asleep without one, when the probe sphere
 // reaches a node (the step would push it out).
 bool VesselScene::StaysAsleep(bool tool_ok) {
-  if (contact_at_sleep_) return tool_ok && tip_W_m_ == sleep_tip_W_m_;
+  if (AsleepInContact()) return tool_ok && tip_W_m_ == sleep_tip_W_m_;
   FindContactCandidates(tool_ok, sleep_max_displacement_m_);
   const double r2 = params_.probe_radius_m * params_.probe_radius_m;
   for (const std::uint32_t i : candidates_) {
@@ -641,7 +640,7 @@ std::uint64_t VesselScene::StateHash() const {
   h.Add(wall_.x_m).Add(wall_.v_m_per_s).Add(tip_W_m_).Add(tip_placed_).Add(was_in_contact_).Add(ticks_without_force_);
   h.Add(asleep_).Add(quiet_steps_);
   if (asleep_)
-    h.Add(contact_at_sleep_).Add(sleep_tip_W_m_).Add(sleep_contact_force_W_N_).Add(sleep_max_displacement_m_);
+    h.Add(AsleepInContact()).Add(sleep_tip_W_m_).Add(sleep_contact_force_W_N_).Add(sleep_max_displacement_m_);
   return h.Value();
 }
 

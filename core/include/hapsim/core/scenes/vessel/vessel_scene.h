@@ -152,6 +152,7 @@ class VesselScene final : public SceneWithOutputs {
   void CountQuietStep(const WallMotion& motion);
   void FallAsleep();
   bool StaysAsleep(bool tool_ok);
+  bool AsleepInContact() const { return !sleep_contact_force_W_N_.isZero(0.0); }
   void UpdateOutputs(const ToolInput& tool, bool tool_ok);
   void RecoverFromBlowup();
 
@@ -196,7 +197,6 @@ class VesselScene final : public SceneWithOutputs {
   bool sleep_allowed_ = false;
   bool asleep_ = false;
   int quiet_steps_ = 0;
-  bool contact_at_sleep_ = false;
   Eigen::Vector3d sleep_tip_W_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d sleep_contact_force_W_N_ = Eigen::Vector3d::Zero();
   double sleep_max_displacement_m_ = 0.0;
