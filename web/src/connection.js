@@ -21,6 +21,8 @@ export class ConsoleConnection {
     this.retryMs = 500;
     this.handlingMs = 0;
     this.messages = 0;
+    this.losses = 0;    // connections lost so far; with welcomes, lets a test see a reconnect however fast it was
+    this.welcomes = 0;  // connections the server accepted so far
     this.open();
   }
 
@@ -38,6 +40,7 @@ export class ConsoleConnection {
       for (const resolve of this.pending.values()) resolve({code: 14, message: 'connection lost'});
       this.pending.clear();
       if (this.refused) return;
+      this.losses++;
       this.handlers.onState('lost');
       setTimeout(() => this.open(), this.retryMs);
       this.retryMs = Math.min(this.retryMs * 2, 4000);
@@ -64,6 +67,7 @@ export class ConsoleConnection {
     }
     const {case: kind, value} = event.event;
     if (kind === 'welcome') {
+      this.welcomes++;
       this.handlers.onState('open', value);
       if (this.watch) this.send({case: 'watchClass', value: this.watch});
       if (this.view) this.send({case: 'openView', value: this.view});

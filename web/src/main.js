@@ -75,6 +75,8 @@ class ConsolePage {
         this.connection.watchClass(this.className || detail.className, 10);
         this.watching = true;
       }
+    } else if (state === 'lost') {
+      this.tiles.markStale();
     } else if (state === 'refused') {
       this.connection = null;
       $('login').hidden = false;

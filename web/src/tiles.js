@@ -38,8 +38,16 @@ export class TileBoard {
   draw() {
     const status = this.waiting;
     this.waiting = null;
+    if (status === null) return;  // dropped by markStale
     this.show(status);
     this.onShown(status.seq);
+  }
+
+  // The link is lost: what the tiles show is from before, so they say so
+  // (dimmed) until the server's next status for each.
+  markStale() {
+    this.waiting = null;
+    for (const tile of this.tiles.values()) tile.element.dataset.stale = 'true';
   }
 
   show(status) {
@@ -63,6 +71,7 @@ export class TileBoard {
       setText(f.score, s.experts > 0 ? `score ${s.score.toFixed(1)}` : '');
       if (f.paused.hidden === s.paused) f.paused.hidden = !s.paused;
       tile.element.dataset.ticks = String(s.ticks);
+      tile.element.dataset.stale = 'false';
       tile.element.dataset.simTime = String(s.simTimeS);  // stands still while paused
       if (tile.onScreen) drawPlot(f.spark, tile.history.points);
     }

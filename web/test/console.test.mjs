@@ -10,13 +10,16 @@
 //   HAPSIM_SHOTS          where to save screenshots
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { execFileSync } from "node:child_process";
+import { execFile } from "node:child_process";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
+import { promisify } from "node:util";
 import { chromium } from "playwright-core";
 import { assertViewShowsTissueAndNeedle, plotInk, sampleView, sessions, shots, token, url } from "./page_checks.mjs";
 
 let browser;
+
+const execFileAsync = promisify(execFile);
 
 const launch = (extraArgs) => chromium.launch({
   executablePath: process.env.HAPSIM_CHROMIUM || "/usr/bin/chromium",
@@ -260,17 +263,27 @@ test("the instructor pushes a scenario to the class; an observer cannot", async 
 
 test("the page reconnects after a server restart", async () => {
   const page = await login("instructor");
-  await page.waitForSelector(`.tile[data-session="${sessions[0]}"]`);
+  const tile = `.tile[data-session="${sessions[0]}"]`;
+  await page.waitForSelector(tile);
   await page.waitForFunction(() => document.querySelector("#link-state").dataset.state === "open");
   await page.waitForTimeout(500);
   const ticksBefore = await tileTicks(page, sessions[0]);
-  execFileSync("bash", ["-c", process.env.HAPSIM_RESTART], { stdio: "inherit" });
-  await page.waitForFunction(() => document.querySelector("#link-state").dataset.state !== "open", null, { timeout: 10000 });
-  await page.waitForFunction(() => document.querySelector("#link-state").dataset.state === "open", null, { timeout: 20000 });
-  // The restarted server's sessions start again from tick 0: the tiles follow them.
-  await page.waitForFunction(([id, before]) => {
-    const t = document.querySelector(`.tile[data-session="${id}"]`);
-    return t && Number(t.dataset.ticks) > 0 && Number(t.dataset.ticks) < before;
-  }, [sessions[0], ticksBefore], { timeout: 10000 });
+  const ticksReadAtMs = Date.now();
+  const welcomesBefore = await page.evaluate(() => window.hapsim.connection.welcomes);
+  // The restart runs beside this test, which watches the page meanwhile: the
+  // link is lost, and the tiles dim the figures they have.
+  const restarted = execFileAsync("bash", ["-c", process.env.HAPSIM_RESTART]);
+  await page.waitForFunction((t) => document.querySelector("#link-state").dataset.state === "lost" &&
+    document.querySelector(t).dataset.stale === "true", tile, { timeout: 10000 });
+  await restarted;
+  await page.waitForFunction((before) => window.hapsim.connection.welcomes > before &&
+    document.querySelector("#link-state").dataset.state === "open", welcomesBefore, { timeout: 20000 });
+  // The restarted server's sessions start again from tick 0: the tile follows
+  // them, below what the old session (1 tick per ms) would have reached by now.
+  await page.waitForFunction(([t, before, readAtMs]) => {
+    const e = document.querySelector(t);
+    const ticks = Number(e.dataset.ticks);
+    return e.dataset.stale === "false" && ticks > 0 && ticks < before + (Date.now() - readAtMs);
+  }, [tile, ticksBefore, ticksReadAtMs], { timeout: 10000 });
   await page.close();
 });
