@@ -1,5 +1,5 @@
 """Checks create_under_load.sh (see the script's header): while hapsim-load
-drove DEVICES sessions (24 by default), the most expensive accepted sessions were created without
+drove DEVICES sessions (24 by default, fewer where 24 fill the core), the most expensive accepted sessions were created without
 any device's force model getting older than the watchdog's warning age, and a
 request beyond the limits was refused with INVALID_ARGUMENT naming the
 parameter."""
@@ -27,6 +27,7 @@ for line in text("times.txt").splitlines():
     key, value = line.split()
     times[key] = float(value)
 DEVICES = int(times["devices"])
+print(f"     the class: {DEVICES} devices, {times.get('class_share', float('nan')):.2f} of the server's core before the creations")
 
 # The load ran, all its devices streamed before the creations and it was
 # still running after them.
