@@ -30,8 +30,9 @@
 # the target's figure on a machine that fast (docs/performance.md, Capacity).
 # A slower host (a PVM guest measured 30-45 µs) is filled by 24 too, so the
 # class's share of core 0 is measured once it streams (the server's
-# utime+stime over 1 s): above MAX_CLASS_SHARE (0.6) the load restarts once
-# with the devices that fill FIT_CLASS_SHARE (0.5) of the core, at least 8.
+# utime+stime over 1 s): above MAX_CLASS_SHARE (0.6) the load restarts (at
+# most twice) with the devices that fill FIT_CLASS_SHARE (0.5) of the core, at
+# least 8.
 # Both shares and the device count go to times.txt and the log.
 # Bounded: every client runs under `timeout`, the whole script takes
 # ~10-20 s; nothing leaves 127.0.0.1.
@@ -85,7 +86,9 @@ MAX_CLASS_SHARE=0.6 FIT_CLASS_SHARE=0.5
 start_load "$devices"
 wait_streaming_and_measure
 echo "class share of core 0 with $devices devices: $class_share"
-if awk -v s="$class_share" -v max="$MAX_CLASS_SHARE" 'BEGIN { exit !(s > max) }'; then
+# At most two restarts: a session's cost does not scale exactly with their number.
+for _ in 1 2; do
+  awk -v s="$class_share" -v max="$MAX_CLASS_SHARE" -v n="$devices" 'BEGIN { exit !(s > max && n > 8) }' || break
   fitted=$(awk -v s="$class_share" -v n="$devices" -v fit="$FIT_CLASS_SHARE" \
       'BEGIN { d = int(n * fit / s); print (d < 8 ? 8 : d) }')
   echo "over $MAX_CLASS_SHARE of the core: a capacity limit here; restarting the load with $fitted devices"
@@ -93,7 +96,7 @@ if awk -v s="$class_share" -v max="$MAX_CLASS_SHARE" 'BEGIN { exit !(s > max) }'
   start_load "$fitted"
   wait_streaming_and_measure
   echo "class share of core 0 with $devices devices: $class_share"
-fi
+done
 echo "class_share $class_share" >>times.txt
 
 # Creations begin once the load has run for 2 s.
