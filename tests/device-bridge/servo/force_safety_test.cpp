@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <initializer_list>
+#include <limits>
 
 #include "safety_test_setup.h"
 
@@ -33,7 +34,7 @@ TEST(ForceSafety, ClampsMagnitudeKeepingDirection) {
 TEST(ForceSafety, NonFiniteForceBecomesZero) {
   auto s = NoRiseLimit();
   EXPECT_EQ(s.Apply({std::nan(""), 0, 0}, 0.001, kDt).norm(), 0.0);
-  EXPECT_EQ(s.Apply({INFINITY, 0, 0}, 0.001, kDt).norm(), 0.0);
+  EXPECT_EQ(s.Apply({std::numeric_limits<double>::infinity(), 0, 0}, 0.001, kDt).norm(), 0.0);
   EXPECT_EQ(s.counters().non_finite, 2u);
 }
 

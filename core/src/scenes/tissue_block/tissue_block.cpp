@@ -93,6 +93,8 @@ TissueBlockScene::TissueBlockScene(const TissueBlockParams& params)
   workspace_ = MakeMsmWorkspace(model_);
   workspace_.cg_max_iterations = TissueBlockLimits::kMaxCgIterations;  // bounded tick cost
   region_ = MakeLocalRegion(model_);
+  rest_speed_m_per_s_ =
+      params_.rest_displacement_m * std::sqrt(params_.anchor_stiffness_N_per_m / params_.node_mass_kg);
 
   // A contact node carries at most the full penalty spring-damper.
   critical_dt_s_ = core::CriticalTimeStep_s(EstimateModeBounds(model_, params_.contact_stiffness_N_per_m,
@@ -216,30 +218,60 @@ void TissueBlockScene::UpdateOutputs(const ToolInput& tool, const Contact& c) {
   }
 }
 
-void TissueBlockScene::RecoverFromBlowup() {
+void TissueBlockScene::PutAtRest() {
   const double t_s = state_.t_s;
   const std::uint64_t blowups = state_.blowups;
   state_ = initial_state_;  // same sizes: copies, no allocation
   state_.t_s = t_s;
   state_.blowups = blowups;
+}
+
+void TissueBlockScene::RecoverFromBlowup() {
+  PutAtRest();
   loaded_nodes_ = {};
   region_seed_ = -1;
-  LogNumericalReset(t_s);
+  LogNumericalReset(state_.t_s);
 }
 
 void TissueBlockScene::Step(const ToolInput& tool, double dt_s) {
   if (!(std::isfinite(dt_s) && dt_s > 0.0)) return;
   const int substeps = static_cast<int>(std::min<double>(TissueBlockLimits::kMaxSubsteps, std::ceil(dt_s / params_.dt_s)));
   const double h = std::min(dt_s / substeps, params_.dt_s);
+  if (asleep_) {
+    const Contact c = FindContact(tool);
+    if (!c.active) {
+      for (int k = 0; k < substeps; ++k) state_.t_s += h;  // the clock as the full step runs it
+      UpdateOutputs(tool, c);
+      return;
+    }
+    asleep_ = false;  // touched: step on from the rest state
+  }
+  bool touched = false;
   for (int k = 0; k < substeps; ++k) {
     const Contact c = FindContact(tool);
+    touched = touched || c.active;
     ApplyContactForce(c);
     if (!Advance(c, h).ok) {
       RecoverFromBlowup();
       break;
     }
   }
-  UpdateOutputs(tool, FindContact(tool));
+  const Contact c = FindContact(tool);
+  if (!touched && !c.active) SleepIfAtRest();
+  UpdateOutputs(tool, c);
+}
+
+// Out of contact (no external force) the block rings down towards its rest
+// state, the initial one. Within rest_displacement_m of it in every
+// coordinate, and with no node faster than rest_speed_m_per_s_ (the speed of
+// a node ringing at that amplitude on its anchor alone), it is put exactly at
+// rest: what is dropped is a ring-down below that amplitude.
+void TissueBlockScene::SleepIfAtRest() {
+  if (params_.rest_displacement_m <= 0.0) return;
+  if ((state_.x_m - initial_state_.x_m).cwiseAbs().maxCoeff() > params_.rest_displacement_m) return;
+  if (state_.v_m_per_s.cwiseAbs().maxCoeff() > rest_speed_m_per_s_) return;
+  PutAtRest();
+  asleep_ = true;
 }
 
 StepReport TissueBlockScene::Advance(const Contact& c, double h_s) {
@@ -262,6 +294,7 @@ void TissueBlockScene::Reset() {
   loaded_nodes_ = {};
   region_seed_ = -1;
   was_in_contact_ = false;
+  asleep_ = false;
   FinishReset();
 }
 
@@ -272,7 +305,7 @@ std::uint64_t TissueBlockScene::StateHash() const {
   // a cache (the integrators start from zero, the region is a function of the
   // tool's cell).
   h.Add(state_.x_m).Add(state_.v_m_per_s).Add(state_.f_ext_N).Add(state_.f_residual_N).Add(state_.blowups);
-  h.Add(loaded_nodes_).Add(was_in_contact_);
+  h.Add(loaded_nodes_).Add(was_in_contact_).Add(asleep_);
   return h.Value();
 }
 

@@ -55,54 +55,109 @@ ParamTable<TissueBlockParams> MakeTissueBlockTable() {
   ParamTable<P> t("tissue_block");
   std::vector<std::string> integrators;
   for (int code = 0; code < kNumIntegratorKinds; ++code) integrators.push_back(ToString(static_cast<IntegratorKind>(code)));
-  t.Add({.name = "grid_nodes", .unit = "count", .min = 3, .max = TissueBlockLimits::kMaxGridNodes, .integer = true,
+  t.Add({.name = "grid_nodes",
+         .unit = "count",
+         .min = 3,
+         .max = TissueBlockLimits::kMaxGridNodes,
+         .integer = true,
          .description = "nodes per side of the square surface grid"},
         &P::grid_nodes)
       .Add({.name = "size_m", .unit = "m", .min = 0, .min_open = true, .description = "side length of the patch"},
            &P::size_m)
-      .Add({.name = "spring_stiffness_N_per_m", .unit = "N/m", .min = 0,
+      .Add({.name = "spring_stiffness_N_per_m",
+            .unit = "N/m",
+            .min = 0,
             .description = "stiffness of the structural (grid-edge) surface springs"},
            &P::spring_stiffness_N_per_m)
-      .Add({.name = "shear_stiffness_N_per_m", .unit = "N/m", .min = 0,
+      .Add({.name = "shear_stiffness_N_per_m",
+            .unit = "N/m",
+            .min = 0,
             .description = "stiffness of the shear (cell-diagonal) surface springs"},
            &P::shear_stiffness_N_per_m)
-      .Add({.name = "spring_damping_Ns_per_m", .unit = "N*s/m", .min = 0,
+      .Add({.name = "spring_damping_Ns_per_m",
+            .unit = "N*s/m",
+            .min = 0,
             .description = "damping along each surface spring"},
            &P::spring_damping_Ns_per_m)
-      .Add({.name = "anchor_stiffness_N_per_m", .unit = "N/m", .min = 0, .min_open = true,
+      .Add({.name = "anchor_stiffness_N_per_m",
+            .unit = "N/m",
+            .min = 0,
+            .min_open = true,
             .description = "zero-length spring tying each node to its rest position (the tissue underneath)"},
            &P::anchor_stiffness_N_per_m)
       .Add({.name = "damping_Ns_per_m", .unit = "N*s/m", .min = 0, .description = "absolute drag on every node"},
            &P::damping_Ns_per_m)
-      .Add({.name = "node_mass_kg", .unit = "kg", .min = 0, .min_open = true,
+      .Add({.name = "node_mass_kg",
+            .unit = "kg",
+            .min = 0,
+            .min_open = true,
             .description = "lumped mass of each node (sets the explicit critical step)"},
            &P::node_mass_kg)
-      .Add({.name = "prestretch", .unit = "1", .min = 0, .max = 1, .max_open = true,
+      .Add({.name = "prestretch",
+            .unit = "1",
+            .min = 0,
+            .max = 1,
+            .max_open = true,
             .description = "surface springs' rest length = spacing / (1 + prestretch)"},
            &P::prestretch)
-      .Add({.name = "contact_stiffness_N_per_m", .unit = "N/m", .min = 0, .min_open = true,
+      .Add({.name = "contact_stiffness_N_per_m",
+            .unit = "N/m",
+            .min = 0,
+            .min_open = true,
             .description = "needle-surface penalty spring"},
            &P::contact_stiffness_N_per_m)
-      .Add({.name = "contact_damping_Ns_per_m", .unit = "N*s/m", .min = 0,
+      .Add({.name = "contact_damping_Ns_per_m",
+            .unit = "N*s/m",
+            .min = 0,
             .description = "penalty damper on the penetration rate"},
            &P::contact_damping_Ns_per_m)
-      .Add({.name = "max_penetration_m", .unit = "m", .min = 0, .min_open = true,
+      .Add({.name = "max_penetration_m",
+            .unit = "m",
+            .min = 0,
+            .min_open = true,
             .description = "deeper tips are treated as this deep"},
            &P::max_penetration_m)
-      .Add({.name = "dt_s", .unit = "s", .min = TissueBlockLimits::kMinDt_s,
+      .Add({.name = "dt_s",
+            .unit = "s",
+            .min = TissueBlockLimits::kMinDt_s,
             .description = "largest internal step; a tick sub-steps to it (also bounded by the critical step)"},
            &P::dt_s)
-      .Add({.name = "integrator", .unit = "code", .min = 0, .max = kNumIntegratorKinds - 1, .integer = true,
-            .description = "time integrator", .choices = integrators},
-           [](const P& p) { return static_cast<double>(p.integrator.kind); },
-           [](P& p, double v) { p.integrator.kind = *IntegratorFromCode(v); })
-      .Add({.name = "midpoint_alpha", .unit = "1", .min = 0, .max = 1, .min_open = true,
-            .description = "weight alpha of midpoint averaging (integrator 3)"},
-           [](const P& p) { return p.integrator.alpha; }, [](P& p, double v) { p.integrator.alpha = v; })
-      .Add({.name = "local_update_hops", .unit = "count", .min = 0, .max = 1000, .integer = true,
+      .Add(
+          {.name = "integrator",
+           .unit = "code",
+           .min = 0,
+           .max = kNumIntegratorKinds - 1,
+           .integer = true,
+           .description = "time integrator",
+           .choices = integrators},
+          [](const P& p) { return static_cast<double>(p.integrator.kind); },
+          [](P& p, double v) { p.integrator.kind = *IntegratorFromCode(v); })
+      .Add(
+          {.name = "midpoint_alpha",
+           .unit = "1",
+           .min = 0,
+           .max = 1,
+           .min_open = true,
+           .description = "weight alpha of midpoint averaging (integrator 3)"},
+          [](const P& p) { return p.integrator.alpha; }, [](P& p, double v) { p.integrator.alpha = v; })
+      .Add({.name = "local_update_hops",
+            .unit = "count",
+            .min = 0,
+            .max = 1000,
+            .integer = true,
             .description = "0: integrate every node; N: in contact, only nodes within N spring hops (gingival paper)"},
            &P::local_update_hops)
-      .Add({.name = "max_kinetic_energy_J", .unit = "J", .min = 0, .min_open = true,
+      .Add({.name = "rest_displacement_m",
+            .unit = "m",
+            .min = 0,
+            .max = 1e-6,
+            .description = "out of contact, within this of rest (and slower than it x sqrt(anchor_stiffness / "
+                           "node_mass)) the block is put at rest and sleeps until touched; 0: the full step always"},
+           &P::rest_displacement_m)
+      .Add({.name = "max_kinetic_energy_J",
+            .unit = "J",
+            .min = 0,
+            .min_open = true,
             .description = "a step above this kinetic energy is a blow-up: counted, and the scene resets"},
            &P::max_kinetic_energy_J);
   return t;

@@ -14,6 +14,10 @@
 // F = max(0, k_c p + b_c dp/dt) on the tool along +z and -w_a F on the
 // corner nodes (bilinear weights w_a): equal and opposite, real deformation.
 //
+// Sleep: out of contact the block rings down to its rest state; once every
+// node is within rest_displacement_m of it (and slow), the block is put
+// exactly at rest and its steps are skipped until the tool touches it.
+//
 // Parameters: tissue_block_params.h (one table: names, units, ranges,
 // defaults, descriptions; the cost limits of docs/scene-limits.md).
 #pragma once
@@ -61,6 +65,8 @@ class TissueBlockScene final : public SceneWithOutputs {
   const MsmState& State() const { return state_; }
   const TissueBlockParams& Params() const { return params_; }
   double CriticalTimeStep_s() const { return critical_dt_s_; }
+  // At rest out of contact: Step() only runs the clock and the contact test.
+  bool Asleep() const { return asleep_; }
   std::int32_t NodeIndex(int row, int col) const { return row * params_.grid_nodes + col; }
 
  private:
@@ -78,6 +84,8 @@ class TissueBlockScene final : public SceneWithOutputs {
   double LocalSurfaceStiffness_N_per_m(const Contact& c) const;
   void RecoverFromBlowup();
   StepReport Advance(const Contact& c, double h_s);
+  void SleepIfAtRest();
+  void PutAtRest();  // the initial state, keeping the clock and the blow-up count
 
   TissueBlockParams params_;
   MsmModel model_;
@@ -93,6 +101,10 @@ class TissueBlockScene final : public SceneWithOutputs {
   double spacing_m_ = 0.0;
   std::array<std::int32_t, 4> loaded_nodes_{};  // nodes carrying contact f_ext
   bool was_in_contact_ = false;
+  // Sleep (rest_displacement_m): while asleep the state is exactly the
+  // initial state (with its own clock), so nothing but the contact test runs.
+  bool asleep_ = false;
+  double rest_speed_m_per_s_ = 0.0;  // rest_displacement_m x sqrt(anchor stiffness / node mass)
 
   MeshTopology topology_;  // the grid's nodes and triangles; never edited
 };

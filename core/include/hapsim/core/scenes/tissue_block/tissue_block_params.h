@@ -37,6 +37,11 @@ struct TissueBlockParams {
   double dt_s = 1e-3;                       // largest internal step; Step() sub-steps to it
   IntegratorChoice integrator{};            // default symplectic Euler
   int local_update_hops = 0;                // 0 = full update every step
+  // Out of contact, once every node is within this of its rest position
+  // (each coordinate) and slower than this x sqrt(anchor_stiffness /
+  // node_mass), the block is put at rest and its steps are skipped until the
+  // tool touches it again. 0: the full step every tick. [m], [0, 1e-6]
+  double rest_displacement_m = 1e-7;
   // Stability guard: a step above this kinetic energy counts as a blow-up
   // and resets the scene. The patch never gets near 10 J under a hand.
   double max_kinetic_energy_J = 10.0;
