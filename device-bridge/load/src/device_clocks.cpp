@@ -5,8 +5,9 @@
 
 namespace hapsim::bridge {
 
-DeviceClocks::DeviceClocks(const std::vector<double>& phases_s, const std::vector<double>& rate_ppm, double period_s)
-    : due_s_(phases_s), period_s_(phases_s.size()), ticks_(phases_s.size(), 0), phase_s_(phases_s) {
+DeviceClocks::DeviceClocks(const std::vector<double>& phases_s, const std::vector<double>& rate_ppm, double period_s,
+                           double end_s)
+    : due_s_(phases_s), period_s_(phases_s.size()), ticks_(phases_s.size(), 0), phase_s_(phases_s), end_s_(end_s) {
   for (std::size_t i = 0; i < period_s_.size(); ++i) {
     period_s_[i] = period_s / (1.0 + (i < rate_ppm.size() ? rate_ppm[i] : 0.0) * 1e-6);
   }
@@ -22,7 +23,7 @@ void DeviceClocks::TakeDue(double now_s, std::vector<std::size_t>* due, std::vec
   due->clear();
   due_times_s->clear();
   for (std::size_t i = 0; i < due_s_.size(); ++i) {
-    if (due_s_[i] > now_s) continue;
+    if (due_s_[i] > now_s || due_s_[i] >= end_s_) continue;
     due->push_back(i);
     due_times_s->push_back(due_s_[i]);
     ++ticks_[i];

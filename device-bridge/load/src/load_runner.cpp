@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "hapsim/common/clock.h"
@@ -123,7 +124,9 @@ void LoadRunner::RunOnDeviceClocks(const std::atomic<bool>& stop, ServoThreadRep
     phases_s.push_back(p.clock_phase_s);
     rates_ppm.push_back(p.clock_rate_ppm);
   }
-  DeviceClocks clocks(phases_s, rates_ppm, 1.0 / config_.rate_hz);
+  // A wake late past the end must not step devices whose next tick is after it.
+  DeviceClocks clocks(phases_s, rates_ppm, 1.0 / config_.rate_hz,
+                      config_.run_seconds > 0.0 ? config_.run_seconds : std::numeric_limits<double>::infinity());
   // One wake per device tick at most: a window of the run's wakes for every device.
   const std::size_t window =
       std::min(StatsWindowPerDevice(config_.run_seconds, config_.rate_hz, 1) * plan_.size(), kPooledSampleBudget);

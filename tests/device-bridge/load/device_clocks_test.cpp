@@ -71,5 +71,28 @@ TEST(DeviceClocks, AStallOfMoreThanTenPeriodsReanchorsOnNowInsteadOfBursting) {
   EXPECT_NEAR(clocks.NextDueS(), 0.051, 1e-12);
 }
 
+// The servo thread that wakes late for the run's last tick (here 1.2 ms
+// late, 0.4 ms past a 10 ms end) steps only the devices due before the end:
+// a tick that falls after the end is not taken, so no device sends an extra
+// pose.
+TEST(DeviceClocks, AWakePastTheRunsEndTakesOnlyTheTicksDueBeforeIt) {
+  const double end_s = 0.010;
+  DeviceClocks clocks({0.0, 2e-4}, {0.0, 0.0}, 1e-3, end_s);
+  std::vector<std::size_t> due;
+  std::vector<double> due_times_s;
+  due.reserve(2);
+  due_times_s.reserve(2);
+  std::vector<std::uint64_t> ticks(2, 0);
+  for (double next_s = clocks.NextDueS(); next_s < end_s; next_s = clocks.NextDueS()) {
+    // On time, except for device 1's last tick (9.2 ms): woken at 10.4 ms, past device 0's 10 ms tick.
+    const double now_s = next_s > 9.1e-3 ? next_s + 1.2e-3 : next_s;
+    clocks.TakeDue(now_s, &due, &due_times_s);
+    for (const std::size_t i : due) ++ticks[i];
+  }
+  EXPECT_EQ(ticks[0], 10u);  // 0, 1, ..., 9 ms; 10 ms is the end
+  EXPECT_EQ(ticks[1], 10u);  // 0.2, 1.2, ..., 9.2 ms
+  EXPECT_EQ(clocks.reanchors(), 0u);
+}
+
 }  // namespace
 }  // namespace hapsim::bridge
