@@ -8,8 +8,9 @@
 #            classroom topology; launches spread over ~1 s like hapsim-load's
 #            default script phases),
 # with the server's CPU time (/proc/PID/stat utime+stime), the host's UDP
-# counters (/proc/net/snmp) and `hapsim-ctl list` read before and after the
-# drive. With BASELINE_BIN the older server in that directory runs right
+# counters (/proc/net/snmp), `hapsim-ctl list` and — this build's server
+# only, from its metrics endpoint (--metrics-listen on its own address, port
+# 0) — every session's tick work read before and after the drive. With BASELINE_BIN the older server in that directory runs right
 # after the current one with the same load and the same clients. Cyclone's
 # ddsperf ping/pong at 1 kHz (pong on core 0, ping on core 1) runs first as
 # the transport baseline. Prints one markdown table (capacity_table.py) and
@@ -223,6 +224,14 @@ snapshot() {  # snapshot PID SUFFIX: server CPU (and per named thread), UDP coun
   cut -d' ' -f1-3 /proc/loadavg >"loadavg_$2.txt"
   grep -E '^cpu[01] ' /proc/stat >"cores_$2.txt"  # busy time of the server's core and the clients' core
 }
+# scrape_metrics SUFFIX: the server's Prometheus text (its per-session tick work) into metrics_SUFFIX.txt,
+# where it has an endpoint ($metrics_port from its log; empty: none)
+scrape_metrics() {
+  [ -n "${metrics_port:-}" ] || return 0
+  "${on_clients[@]}" /usr/bin/python3 -c 'import sys, urllib.request
+sys.stdout.write(urllib.request.urlopen(sys.argv[1], timeout=5).read().decode())' \
+      "http://$server_ip:$metrics_port/metrics" >"metrics_$1.txt" 2>/dev/null || rm -f "metrics_$1.txt"
+}
 # stop_server PID: SIGTERM, at most 10 s, then SIGKILL; appends its exit code to run.env
 stop_server() {
   kill -TERM "$1" 2>/dev/null || true
@@ -255,13 +264,16 @@ run_one() {
   [ "$RT_PRIORITY" = 0 ] || [ "$label" = baseline ] || server_rt=(--rt-priority "$RT_PRIORITY")
   local server_extra=()
   [ "$label" = baseline ] || read -r -a server_extra <<<"${SERVER_FLAGS:-}"
+  # The tick's own work per session (hapsim_session_tick_seconds_total) beside the process's CPU; an older
+  # baseline build may not have the endpoint.
+  [ "$label" = baseline ] || server_extra+=(--metrics-listen "$server_ip:0")
   if [ "$label" = baseline ]; then server_coding=() client_coding=(); fi  # an older build: every tick, its own flags
   local load_help
   load_help=$("$(client "$client_dir" hapsim-load)" --help 2>/dev/null || true)  # no pipe: grep -q would cut it
   if [[ $load_help != *--clock-phase-spread* ]]; then
     client_load_clocks=()  # an older hapsim-load: lockstep, its only way
   fi
-  local domain server addr i rc client_rc=0 failure="" ctl bridges=()
+  local domain server addr i rc client_rc=0 failure="" ctl bridges=() metrics_port=""
   rm -rf "$dir" && mkdir -p "$dir"
   echo "$dir" >>"$out/runs.txt"
   echo "$(date -u +%T) $mode / $label server / $scene / N=$n (load $(cut -d' ' -f1-3 /proc/loadavg))" >&2
@@ -285,6 +297,7 @@ run_one() {
     echo "failure=server did not start" >>run.env; stop_server "$server"; unplace "$dir"; cd "$out"; return
   fi
   addr=$server_ip:$(cat port)
+  metrics_port=$(sed -n 's/.*metrics at http:\/\/.* (port \([0-9]*\)).*/\1/p' server.log | head -1)
   ctl=("${on_clients[@]}" taskset -c 1 timeout 30 "$bin/hapsim-ctl" --server "$addr")
   for ((i = 0; i < n; i++)); do
     if ! "${ctl[@]}" create --id "cap-$i" --scene "$scene" "${scene_param_flags[@]}" >>create.out 2>>create.err; then
@@ -296,6 +309,7 @@ run_one() {
   fi
   sleep 0.5
   "${ctl[@]}" list >list_before.txt || true
+  scrape_metrics before
   snapshot "$server" before
   if [ "$mode" = load ]; then
     "${on_clients[@]}" taskset -c 1 timeout -k 5 "$client_timeout" "$(client "$client_dir" hapsim-load)" \
@@ -321,6 +335,7 @@ run_one() {
     done
   fi
   snapshot "$server" after
+  scrape_metrics after
   "${ctl[@]}" list >list_after.txt || true
   echo "client_rc=$client_rc" >>run.env
   stop_server "$server"

@@ -13,7 +13,15 @@ before the clients start to just after they exit:
   worst model age    largest model age of any device (ms)
   watchdog           warnings / fades / disarms summed over devices ("-" if
                      the client does not count them)
-  CPU per tick       server utime+stime delta / session-ticks (µs)
+  CPU per tick       server utime+stime delta / session-ticks (µs); in
+                     brackets, where the server has a metrics endpoint
+                     (this build's, not a baseline's): the tick's own work,
+                     the sessions' hapsim_session_tick_seconds_total delta /
+                     their hapsim_session_ticks_total delta (wall time from
+                     the tick's start to its scene stepped: the step, the
+                     input and the listeners). The rest is the runtime's
+                     cost per session-tick (CSV: tick_work_us_per_session_tick,
+                     runtime_us_per_session_tick)
   (CSV only)         context_switches_per_session_tick: the server threads'
                      voluntary + involuntary switches delta / session-ticks
   UDP per tick       host Udp OutDatagrams delta / session-ticks
@@ -114,6 +122,30 @@ def tick_deltas(run_dir):
         ticks += int(a.get("ticks", 0)) - int(b.get("ticks", 0))
         late += int(a.get(late_key, 0)) - int(b.get(late_key, 0))
     return ticks, late, len(after)
+
+
+METRIC_SAMPLE = re.compile(r'^(hapsim_session_tick_seconds_total|hapsim_session_ticks_total)\{[^}]*session="(cap-[^"]*)"[^}]*\} (\S+)')
+
+
+def session_metrics(path):
+    """the server's /metrics text -> {(metric, session): value} for the benchmark's cap-* sessions"""
+    values = {}
+    for line in open(path):
+        m = METRIC_SAMPLE.match(line)
+        if m:
+            values[(m.group(1), m.group(2))] = float(m.group(3))
+    return values
+
+
+def tick_work(run_dir):
+    """(seconds of tick work, ticks) summed over the sessions between the two scrapes, or None"""
+    try:
+        before, after = session_metrics(f"{run_dir}/metrics_before.txt"), session_metrics(f"{run_dir}/metrics_after.txt")
+    except OSError:
+        return None
+    work = sum(v - before.get(k, 0.0) for k, v in after.items() if k[0] == "hapsim_session_tick_seconds_total")
+    ticks = sum(v - before.get(k, 0.0) for k, v in after.items() if k[0] == "hapsim_session_ticks_total")
+    return (work, ticks) if ticks > 0 else None
 
 
 PERCENTILES = re.compile(r"p50 ([\d.]+) / p99 ([\d.]+) / max ([\d.]+) ms \(n=(\d+)\)")
@@ -247,6 +279,9 @@ def run_row(run_dir):
         wall = float(open(f"{run_dir}/wall_after.txt").read()) - float(open(f"{run_dir}/wall_before.txt").read())
     except (OSError, ValueError):
         pass
+    work = tick_work(run_dir)
+    work_us = work[0] * 1e6 / work[1] if work else None
+    cpu_us = cpu * 1e6 / ticks if cpu is not None and ticks else None
     with_rt = [d["round_trip"] for d in devices if d["round_trip"]]
     ages = [d["model_age"][2] for d in devices if d["model_age"]]
     row.update({
@@ -266,7 +301,9 @@ def run_row(run_dir):
         "poses_sent": sum(d["poses"] for d in devices),
         "models_received": sum(d["models"] for d in devices),
         "server_cpu_s": cpu,
-        "cpu_us_per_session_tick": cpu * 1e6 / ticks if cpu is not None and ticks else None,
+        "cpu_us_per_session_tick": cpu_us,
+        "tick_work_us_per_session_tick": work_us,
+        "runtime_us_per_session_tick": cpu_us - work_us if cpu_us is not None and work_us is not None else None,
         "context_switches_per_session_tick": switches / ticks if switches is not None and ticks else None,
         "udp_out": udp.get("OutDatagrams"),
         "udp_in": udp.get("InDatagrams"),
@@ -319,6 +356,8 @@ def table_line(r):
         late = fmt(r.get("late_pct"), ".2f")
         age = fmt(r.get("model_age_max_ms"), ".2f")
         cpu = fmt(r.get("cpu_us_per_session_tick"), ".1f")
+        if r.get("tick_work_us_per_session_tick") is not None:
+            cpu += f" ({fmt(r['tick_work_us_per_session_tick'], '.1f')})"
     return (f"| {r['mode']} | {r['server']} | {r['scene']} | {r['n']} | {late} | {rt} | {age} | {events} | {cpu} | "
             f"{fmt(r.get('udp_per_session_tick'), '.2f')} | {fmt(r.get('rcvbuf_errors'), 'd')} |")
 
@@ -336,7 +375,7 @@ print(f"capacity.sh {meta.get('date', '')}, commit {meta.get('commit', '?')}, {m
       f"server on core 0, clients on core 1")
 print()
 print("| mode | server | scene | N | late ticks % | round trip p50 / p99 / max ms | worst model age ms | "
-      "watchdog warnings / fades / disarms | server CPU µs per session-tick | UDP datagrams per session-tick | "
+      "watchdog warnings / fades / disarms | server CPU µs per session-tick (the tick's own work) | UDP datagrams per session-tick | "
       "RcvbufErrors |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")
 for r in rows:
@@ -369,7 +408,8 @@ fields = ["mode", "server", "scene", "n", "failure", "devices", "devices_without
           "session_ticks", "late_ticks", "late_pct", "rt_p50_ms", "rt_p99_ms", "rt_max_ms", "model_age_max_ms",
           "warnings", "fades", "disarms", "poses_sent", "models_received", "server_cpu_s",
           "cpu_us_per_session_tick", "context_switches_per_session_tick", "udp_out", "udp_in", "udp_per_session_tick", "rcvbuf_errors", "wall_s",
-          "client_rc", "server_rc", "background_udp_per_s", "seconds", "round_trips"]
+          "client_rc", "server_rc", "background_udp_per_s", "seconds", "round_trips",
+          "tick_work_us_per_session_tick", "runtime_us_per_session_tick"]
 with open(f"{out}/capacity.csv", "w", newline="") as f:
     writer = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
     writer.writeheader()
