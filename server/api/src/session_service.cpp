@@ -6,8 +6,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <thread>
 
 #include "hapsim/api/call_status.h"
+#include "hapsim/common/clock.h"
 #include "hapsim/core/assessment/scoring.h"
 #include "hapsim/core/scenes/scene.h"
 #include "hapsim/dds/partition.h"
@@ -176,12 +178,33 @@ Status SessionServiceImpl::ResetSession(grpc::ServerContext* context, const haps
   });
 }
 
+// A session nobody watches publishes its snapshots without the mesh: ask
+// for it and wait for the frame pump to take one that has it (a frame or two,
+// ~17-33 ms at 60 Hz). nullptr if the pump has taken no snapshot of the
+// session yet (at once, as before there were meshless ones) or none with the
+// mesh came within kMeshWait.
+std::shared_ptr<const SceneSnapshot> SessionServiceImpl::SnapshotWithMesh(Session& s,
+                                                                          grpc::ServerContext& context) const {
+  constexpr std::int64_t kMeshWantedNs = 2'000'000'000;  // long enough for a client's retry to find it
+  constexpr auto kMeshWait = std::chrono::milliseconds(500);
+  auto snap = hub_->LatestSnapshot(s);
+  if (!snap || snap->has_mesh) return snap;
+  s.WantMeshUntil(common::SteadyNowNs() + kMeshWantedNs);
+  const auto give_up = std::chrono::steady_clock::now() + kMeshWait;
+  while (std::chrono::steady_clock::now() < give_up && !context.IsCancelled()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    snap = hub_->LatestSnapshot(s);
+    if (snap && snap->has_mesh) return snap;
+  }
+  return nullptr;
+}
+
 Status SessionServiceImpl::GetSnapshot(grpc::ServerContext* context, const hapsim::v1::SessionRef* req,
                                        hapsim::v1::MeshSnapshot* out) {
   return Guarded("GetSnapshot", [&] {
     policy_->Authorize(Caller(context), Action::kView, req->session_id());
     auto s = registry_->FindOrThrow(req->session_id());
-    const auto snap = hub_->LatestSnapshot(*s);
+    const auto snap = SnapshotWithMesh(*s, *context);
     if (!snap) throw ServiceError(ErrorCode::kFailedPrecondition, "session has no snapshot yet; retry shortly");
     out->set_session_id(s->id());
     out->set_sim_time_s(snap->sim_time_s);

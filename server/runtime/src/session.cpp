@@ -224,6 +224,12 @@ void Session::PublishForceModel(const TickInput& in, const core::LocalForceModel
   }
 }
 
+void Session::WantMeshUntil(std::int64_t until_ns) {
+  std::int64_t was = mesh_wanted_until_ns_.load(std::memory_order_relaxed);
+  while (was < until_ns && !mesh_wanted_until_ns_.compare_exchange_weak(was, until_ns, std::memory_order_relaxed)) {
+  }
+}
+
 void Session::PublishSnapshot(const TickInput& in) {
   std::shared_ptr<SceneSnapshot> s = snapshots_.Acquire();
   if (!s) {
@@ -236,7 +242,12 @@ void Session::PublishSnapshot(const TickInput& in) {
   s->interval_peak_N = interval_peaks_N_;
   s->sim_time_s = scene_->SimTime_s();
   s->paused = in.paused;
-  CopyMesh(scene_->Vertices_m(), scene_->Topology(), topology_taken_.load(std::memory_order_acquire), s.get());
+  // The first snapshot (published at creation) always has the mesh.
+  s->has_mesh = s->id == 1 || counters_.viewers.connected.load(std::memory_order_relaxed) > 0 ||
+                common::SteadyNowNs() < mesh_wanted_until_ns_.load(std::memory_order_relaxed);
+  if (s->has_mesh) {
+    CopyMesh(scene_->Vertices_m(), scene_->Topology(), topology_taken_.load(std::memory_order_acquire), s.get());
+  }
   s->part_names = part_names_;
   s->layer_names = layer_names_;
   s->tool = last_pose_.tool;

@@ -73,7 +73,10 @@ void ViewerHub::PumpSession(const std::shared_ptr<Session>& session, std::int64_
     links = e.links;
     history = e.history;
   }
-  if (!latest) return;
+  // Without its mesh (nobody watched when it was taken) a snapshot still
+  // serves the class's tiles; streams wait for the next one, which has it
+  // now that they are connected. Its edits stay in the scene's log for that one.
+  if (!latest || !latest->has_mesh) return;
   if (is_new) {
     history->Absorb(*latest);
     session->MarkTopologyTaken(history->End());

@@ -497,6 +497,23 @@ TEST_F(ServerAppTest, SnapshotAndSceneListAnswer) {
   EXPECT_EQ(snap.triangles_size() % 3, 0);
 }
 
+// Nobody watches the session, so its snapshots skip the mesh; GetSnapshot
+// asks for it and answers with the mesh of a snapshot taken after the ask.
+TEST_F(ServerAppTest, TheSnapshotOfASessionNobodyWatchesHasItsCurrentMesh) {
+  ASSERT_TRUE(CallOk(Create("unwatched")));
+  std::this_thread::sleep_for(300ms);  // ~18 frames without a mesh
+  const double before_s = Info("unwatched").sim_time_s();
+  grpc::ClientContext c;
+  hapsim::v1::SessionRef ref;
+  ref.set_session_id("unwatched");
+  hapsim::v1::MeshSnapshot snap;
+  const grpc::Status s = sessions_->GetSnapshot(&c, ref, &snap);
+  ASSERT_TRUE(s.ok()) << s.error_message();
+  EXPECT_EQ(snap.positions_m_size(), 3 * 441);  // the tissue block's 21 x 21 surface
+  EXPECT_GT(snap.triangles_size(), 0);
+  EXPECT_GE(snap.sim_time_s(), before_s);  // not the creation's mesh
+}
+
 TEST_F(ServerAppTest, SlowViewerGetsCoalescedFramesWithBoundedLag) {
   ASSERT_TRUE(CallOk(Create("slow")));
   grpc::ClientContext ctx;

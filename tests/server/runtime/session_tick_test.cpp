@@ -1,6 +1,7 @@
 // Session ticks driven by hand (no pool, synthetic clock): the tick allocates
 // nothing, replaying its TickInputs reaches the same state hash, one device
-// owns a session, deadlines follow the device, lateness is counted.
+// owns a session, deadlines follow the device, lateness is counted, and
+// snapshots copy the mesh only for someone who reads it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "core/allocation_counter.h"
+#include "hapsim/common/clock.h"
 #include "hapsim/runtime/session.h"
 
 namespace hapsim::service {
@@ -68,6 +70,7 @@ INSTANTIATE_TEST_SUITE_P(Catalogue, EveryScene, ::testing::ValuesIn(SceneNames()
 TEST_P(EveryScene, TheTickAllocatesNothingWhilePressingAndPublishingSnapshots) {
   CapturedModels models;
   auto session = MakeSession(GetParam(), &models);
+  session->counters().viewers.connected.store(1);  // watched: every snapshot copies the mesh
   std::shared_ptr<const SceneSnapshot> snapshot;
   std::int64_t now = kT0Ns;
   std::uint64_t seq = 0;
@@ -299,6 +302,61 @@ TEST(SessionTick, AModelSaysHowLongThePoseItAnswersWasHeld) {
   session.RunTick(kT0Ns + 4 * kPeriodNs, kT0Ns + 4 * kPeriodNs);
   EXPECT_EQ(models.last.echo_pose_seq, 6u);
   EXPECT_EQ(models.last.echo_pose_held_ns, 0);
+}
+
+// Ticks until the session publishes its next snapshot (a frame: 17 ticks at
+// 60 Hz) and takes it, as the frame pump does.
+std::shared_ptr<const SceneSnapshot> TickOneFrame(Session& session, std::int64_t* now_ns) {
+  std::shared_ptr<const SceneSnapshot> snapshot;
+  for (int i = 0; i < 100 && !session.TakeSnapshot(&snapshot); ++i) {
+    session.RunTick(*now_ns, *now_ns);
+    *now_ns += kPeriodNs;
+  }
+  return snapshot;
+}
+
+// The mesh copy at the frame rate is for viewers and GetSnapshot only: a
+// session nobody watches publishes snapshots without it (the first, at
+// creation, has it), a connected viewer or a request brings it back, and a
+// snapshot that has it holds the scene's vertices as they are.
+TEST(SessionTick, ASnapshotCarriesTheMeshOnlyWhileAViewerWatchesOrSomeoneAskedForIt) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  std::shared_ptr<const SceneSnapshot> first;
+  ASSERT_TRUE(session->TakeSnapshot(&first));
+  EXPECT_EQ(first->id, 1u);
+  EXPECT_TRUE(first->has_mesh);
+
+  auto unwatched = TickOneFrame(*session, &now);
+  ASSERT_TRUE(unwatched);
+  EXPECT_FALSE(unwatched->has_mesh);
+  EXPECT_NEAR(unwatched->sim_time_s, session->scene().SimTime_s(), 1e-12);  // the rest is this instant's
+
+  session->counters().viewers.connected.store(1);
+  auto watched = TickOneFrame(*session, &now);
+  ASSERT_TRUE(watched);
+  ASSERT_TRUE(watched->has_mesh);
+  const Eigen::Matrix3Xd& vertices = session->scene().Vertices_m();
+  ASSERT_EQ(watched->vertices_m.cols(), vertices.cols());
+  EXPECT_EQ(watched->vertices_m, vertices);
+  EXPECT_EQ(watched->vertex_slots, session->scene().Topology().Vertices().HighWater());
+
+  session->counters().viewers.connected.store(0);
+  EXPECT_FALSE(TickOneFrame(*session, &now)->has_mesh);
+  session->WantMeshUntil(common::SteadyNowNs() + 60'000'000'000);  // asked for a minute
+  session->WantMeshUntil(common::SteadyNowNs() - 1);               // a later, shorter ask does not shorten it
+  EXPECT_TRUE(TickOneFrame(*session, &now)->has_mesh);
+}
+
+TEST(SessionTick, AMeshAskedForUntilAMomentPastIsNotCopied) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  std::int64_t now = kT0Ns;
+  std::shared_ptr<const SceneSnapshot> first;
+  ASSERT_TRUE(session->TakeSnapshot(&first));
+  session->WantMeshUntil(common::SteadyNowNs() - 1);
+  EXPECT_FALSE(TickOneFrame(*session, &now)->has_mesh);
 }
 
 }  // namespace

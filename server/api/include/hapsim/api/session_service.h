@@ -6,6 +6,7 @@
 // the AccessPolicy who the caller is and whether it may (docs/classroom.md).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -114,6 +115,7 @@ class SessionServiceImpl final : public hapsim::v1::SessionService::Service {
 
  private:
   std::optional<Principal> Caller(const grpc::ServerContext* context) const;
+  std::shared_ptr<const SceneSnapshot> SnapshotWithMesh(Session& session, grpc::ServerContext& context) const;
   SessionRegistry* registry_;
   const ViewerHub* hub_;
   const AccessPolicy* policy_;

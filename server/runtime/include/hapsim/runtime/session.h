@@ -121,6 +121,12 @@ class Session : public TickTask {
   const std::vector<std::string>& layer_names() const { return *layer_names_; }
   void MarkTopologyTaken(std::uint64_t version) { topology_taken_.store(version, std::memory_order_release); }
 
+  // Any thread. Snapshots carry the mesh while a viewer is connected and,
+  // besides, until `until_ns` (steady clock): whoever wants a session's mesh
+  // without a viewer stream (GetSnapshot) asks for it here, then takes a
+  // snapshot that has it. Without either, the frame-rate mesh copy is skipped.
+  void WantMeshUntil(std::int64_t until_ns);
+
   // Any thread.
   void RequestPause(bool pause) { paused_.store(pause); }
   void RequestReset() { reset_requests_.fetch_add(1); }
@@ -177,6 +183,7 @@ class Session : public TickTask {
   // The topology version up to which the frame pump has taken the edits
   // (written by the pump, read by the tick): snapshots carry only newer ones.
   std::atomic<std::uint64_t> topology_taken_{0};
+  std::atomic<std::int64_t> mesh_wanted_until_ns_{0};  // WantMeshUntil
 };
 
 }  // namespace hapsim::service
