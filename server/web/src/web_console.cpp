@@ -2,198 +2,23 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/ssl.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/http.hpp>
-#include <boost/beast/ssl.hpp>
-#include <boost/beast/websocket.hpp>
-#include <boost/beast/websocket/ssl.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>  // is_upgrade
 #include <chrono>
-#include <deque>
 #include <fstream>
 #include <future>
-#include <mutex>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 #include <type_traits>
-#include <vector>
 
-#include "class_watch_hub.h"
-#include "console_session.h"
 #include "hapsim/common/thread_setup.h"
 #include "hapsim/web/static_files.h"
+#include "web_console_impl.h"
 
 namespace hapsim::web {
 
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-namespace net = boost::asio;
-namespace ssl = net::ssl;
-using tcp = net::ip::tcp;
-using PlainStream = beast::tcp_stream;
-using TlsStream = beast::ssl_stream<beast::tcp_stream>;
-
 namespace {
-constexpr std::size_t kMaxRequestBytes = 64 * 1024;  // one console message; HTTP headers and body
+
 constexpr auto kHttpIdleTimeout = std::chrono::seconds(30);
-}  // namespace
-
-// An open WebSocket, as the endpoint sees it when it stops.
-class LiveConnection {
- public:
-  virtual ~LiveConnection() = default;
-  virtual void CloseNow() = 0;  // I/O thread
-};
-
-struct WebConsole::Impl {
-  // Everything the connections use is declared before the I/O context: the
-  // handlers it still holds when it is destroyed destroy connections.
-  WebConsoleOptions options;
-  OpenCalls open_calls;
-  std::unique_ptr<ClassWatchHub> class_watches;
-  ConsoleServices services;
-  std::optional<ssl::context> tls;
-  int bound_port = 0;
-  int websockets = 0;                               // I/O thread only
-  std::vector<std::weak_ptr<LiveConnection>> live;  // I/O thread only
-  std::mutex stop_mutex;
-  bool stopped = false;
-  net::io_context io{1};
-  tcp::acceptor acceptor{io};
-  std::thread thread;
-
-  void Listen();
-  void Accept();
-  std::string ServeFile(const std::string& target, http::status* status, std::string* content_type) const;
-};
-
-namespace {
-
-// One browser's WebSocket: the console protocol's transport. Writes are
-// queued and sent one at a time on the I/O thread.
-template <class Stream>
-class WebSocketLink final : public ConsoleTransport,
-                            public LiveConnection,
-                            public std::enable_shared_from_this<WebSocketLink<Stream>> {
- public:
-  WebSocketLink(Stream&& stream, WebConsole::Impl* console) : ws_(std::move(stream)), console_(console) {
-    ++console_->websockets;
-  }
-  ~WebSocketLink() override { --console_->websockets; }
-
-  void Run(http::request<http::string_body> request) {
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.read_message_max(kMaxRequestBytes);
-    ws_.binary(true);
-    ws_.async_accept(request, [self = this->shared_from_this()](beast::error_code ec) { self->OnAccept(ec); });
-  }
-
-  void Send(std::shared_ptr<const std::string> bytes, std::function<void(bool sent)> on_sent) override {
-    net::post(ws_.get_executor(),
-              [self = this->shared_from_this(), bytes = std::move(bytes), on_sent = std::move(on_sent)]() mutable {
-                if (self->closed_) {
-                  on_sent(false);
-                  return;
-                }
-                self->queue_.push_back({std::move(bytes), std::move(on_sent)});
-                if (!self->writing_) self->WriteNext();
-              });
-  }
-
-  void Close() override {
-    net::post(ws_.get_executor(), [self = this->shared_from_this()] {
-      self->closing_ = true;
-      if (!self->writing_) self->CloseHandshake();
-    });
-  }
-
-  void CloseNow() override {
-    Closed();
-    beast::error_code ignored;
-    beast::get_lowest_layer(ws_).socket().close(ignored);
-  }
-
- private:
-  struct Outgoing {
-    std::shared_ptr<const std::string> bytes;
-    std::function<void(bool)> on_sent;
-  };
-
-  void OnAccept(beast::error_code ec) {
-    if (ec) return;
-    auto& live = console_->live;
-    live.erase(std::remove_if(live.begin(), live.end(), [](const auto& w) { return w.expired(); }), live.end());
-    live.push_back(this->shared_from_this());
-    session_ = std::make_shared<ConsoleSession>(console_->services, this->shared_from_this());
-    Read();
-  }
-
-  void Read() {
-    ws_.async_read(buffer_, [self = this->shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) {
-        self->Closed();
-        return;
-      }
-      const auto data = self->buffer_.cdata();
-      self->session_->OnMessage(std::string_view(static_cast<const char*>(data.data()), data.size()));
-      self->buffer_.consume(self->buffer_.size());
-      if (!self->closed_) self->Read();
-    });
-  }
-
-  void WriteNext() {
-    writing_ = true;
-    ws_.async_write(net::buffer(*queue_.front().bytes),
-                    [self = this->shared_from_this()](beast::error_code ec, std::size_t) { self->OnWrite(ec); });
-  }
-
-  void OnWrite(beast::error_code ec) {
-    writing_ = false;
-    Outgoing done = std::move(queue_.front());
-    queue_.pop_front();
-    done.on_sent(!ec);
-    if (ec) {
-      Closed();
-    } else if (!closed_ && !queue_.empty()) {
-      WriteNext();
-    } else if (!closed_ && closing_) {
-      CloseHandshake();
-    }
-  }
-
-  void CloseHandshake() {
-    if (closed_) return;
-    ws_.async_close(websocket::close_code::normal,
-                    [self = this->shared_from_this()](beast::error_code) { self->Closed(); });
-  }
-
-  // The connection is over: every queued message is reported unsent (but
-  // the one being written, whose handler reports it) and the streams end.
-  void Closed() {
-    if (closed_) return;
-    closed_ = true;
-    const std::size_t keep = writing_ ? 1 : 0;
-    while (queue_.size() > keep) {
-      auto on_sent = std::move(queue_.back().on_sent);
-      queue_.pop_back();
-      on_sent(false);
-    }
-    if (session_) session_->OnClosed();
-    session_.reset();
-  }
-
-  websocket::stream<Stream> ws_;
-  WebConsole::Impl* console_;
-  beast::flat_buffer buffer_;
-  std::shared_ptr<ConsoleSession> session_;
-  std::deque<Outgoing> queue_;
-  bool writing_ = false, closing_ = false, closed_ = false;
-};
 
 // One HTTP connection: the web app's files, or the upgrade to the console's
 // WebSocket at /ws.
@@ -238,7 +63,7 @@ class HttpExchange final : public std::enable_shared_from_this<HttpExchange<Stre
                        "too many console connections (" + std::to_string(console_->options.max_connections) + ")\n");
       }
       beast::get_lowest_layer(stream_).expires_never();  // the WebSocket keeps its own timeouts
-      std::make_shared<WebSocketLink<Stream>>(std::move(stream_), console_)->Run(std::move(request));
+      StartWebSocketLink(std::move(stream_), std::move(request), console_);
       return;
     }
     if (request.method() != http::verb::get && request.method() != http::verb::head) {
