@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "hapsim/core/msm/msm_forces.h"
 #include "hapsim/core/msm/msm_step.h"
 #include "hapsim/core/scenes/tissue_block/tissue_block.h"
@@ -47,8 +49,7 @@ void StepResting(const MsmModel& model, MsmState& state, MsmWorkspace& ws, Resti
   for (int k = 0; k < n; ++k) {
     if (press_N != 0.0) resting.Wake(model, kCentre);
     for (const std::int32_t i : resting.Region(model).active_nodes) ever_awake[static_cast<std::size_t>(i)] = true;
-    StepMsmLocal(model, state, 1e-3, symplectic, ws, resting.Region(model));
-    resting.Settle(model, state);
+    resting.Step(model, state, 1e-3, symplectic, ws);
   }
 }
 
@@ -98,8 +99,7 @@ TEST(RestingNodes, ACreepHeldInBalanceByDampingRestsOnlyOnceThePullIsSmall) {
   const IntegratorChoice symplectic{IntegratorKind::kSymplecticEuler, 0.5};
   double x_when_quiet = -1.0;
   for (int step = 0; step < 30000 && resting.AwakeCount() > 0; ++step) {
-    StepMsmLocal(model, state, 1e-3, symplectic, ws, resting.Region(model));
-    resting.Settle(model, state);
+    resting.Step(model, state, 1e-3, symplectic, ws);
     if (x_when_quiet < 0.0 && std::abs(state.v_m_per_s(0, 0)) < RestConfig{}.speed_m_per_s)
       x_when_quiet = state.x_m(0, 0);
   }
@@ -108,6 +108,74 @@ TEST(RestingNodes, ACreepHeldInBalanceByDampingRestsOnlyOnceThePullIsSmall) {
   EXPECT_GT(x_when_quiet, 2e-4);
   EXPECT_EQ(resting.AwakeCount(), 0);
   EXPECT_LE(std::abs(state.x_m(0, 0)), RestConfig{}.force_N / k);
+}
+
+}  // namespace
+}  // namespace hapsim::core
+
+namespace hapsim::core {
+namespace {
+
+// Step() judges the resting neighbours inside the step, from its spring
+// pass and the kept sums of their still springs. Reference: the full walk
+// of each one's springs (NetNodeForce_N) at the state the step starts from.
+// Through a press, its release and the patch settling (nodes waking and
+// resting throughout), every node the walk puts past force_N wakes and is
+// integrated in that step. The only other nodes a step wakes are those
+// judged after it, on the full walk: in a rest check's step and the one
+// after it.
+TEST(RestingNodes, TheNeighboursAStepWakesAreThoseTheFullWalkFindsPulledPastTheRestForce) {
+  const MsmModel model = RestingPatch();
+  MsmState state = MakeMsmState(model);
+  MsmWorkspace ws = MakeMsmWorkspace(model);
+  const RestConfig config;
+  RestingNodes resting(model, config);
+  const IntegratorChoice symplectic{IntegratorKind::kSymplecticEuler, 0.5};
+  const auto n = static_cast<std::size_t>(model.num_nodes);
+  std::int64_t woken_in_step = 0, woken_after = 0, rested = 0;
+  for (int step = 0; step < 3000; ++step) {
+    const bool pressing = step < 400 || (step >= 1200 && step < 1300);
+    state.f_ext_N(2, kCentre) = pressing ? -0.5 : 0.0;
+    if (pressing) resting.Wake(model, kCentre);
+    std::vector<std::uint8_t> awake_before(n, 0), expect_woken(n, 0), near_threshold(n, 0);
+    for (std::size_t i = 0; i < n; ++i) awake_before[i] = resting.Awake(static_cast<std::int32_t>(i));
+    const bool judged_in_step = resting.StepsSinceRestCheck() != 0;
+    const bool judged_after = !judged_in_step || resting.StepsSinceRestCheck() + 1 == RestingNodes::kRestCheckSteps;
+    // Predicted: the resting touched nodes the walk finds pulled past
+    // force_N; a net force within 1e-9 of it is left out (rounding decides).
+    for (const std::int32_t i : resting.Region(model).touched_nodes) {
+      const auto u = static_cast<std::size_t>(i);
+      if (!judged_in_step || awake_before[u] || model.fixed[u]) continue;
+      const double net_N = NetNodeForce_N(model, state, i).norm();
+      expect_woken[u] = net_N > config.force_N;
+      near_threshold[u] = std::abs(net_N - config.force_N) < 1e-9 * config.force_N;
+    }
+    const Eigen::Matrix3Xd x_before = state.x_m;
+    resting.Step(model, state, 1e-3, symplectic, ws);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto col = static_cast<Eigen::Index>(i);
+      const bool awake_after = resting.Awake(static_cast<std::int32_t>(i));
+      rested += awake_before[i] && !awake_after;
+      if (awake_before[i] || !awake_after || near_threshold[i]) {
+        ASSERT_FALSE(expect_woken[i] && !awake_after) << "node " << i << " stayed resting in step " << step;
+        continue;
+      }
+      if (expect_woken[i]) {
+        ++woken_in_step;
+        EXPECT_NE(state.x_m.col(col), x_before.col(col)) << "woken node " << i << " not integrated in step " << step;
+      } else {
+        ++woken_after;
+        ASSERT_TRUE(judged_after) << "node " << i << " woke unpredicted in step " << step;
+        EXPECT_EQ(state.x_m.col(col), x_before.col(col)) << "node " << i << " judged after step " << step;
+      }
+    }
+  }
+  // The run exercised it: many wakes in the step and many rests.
+  std::printf("woken in the step %lld, after it %lld; rested %lld\n", static_cast<long long>(woken_in_step),
+              static_cast<long long>(woken_after), static_cast<long long>(rested));
+  EXPECT_GT(woken_in_step, 100);
+  EXPECT_GT(rested, 100);
+  EXPECT_EQ(resting.AwakeCount(), 0);
 }
 
 }  // namespace

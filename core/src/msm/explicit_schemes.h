@@ -39,13 +39,22 @@ inline auto TrapezoidUpdate(double* __restrict x, double* __restrict v, const No
   };
 }
 
+// The one spring pass of explicit and symplectic Euler; then the local
+// update's listener may add nodes to the active list.
+template <class R>
+void SpringPassThenListener(const MsmModel& m, MsmWorkspace& ws, const double* x, const double* v, R& r) {
+  SpringPass(m, ws, x, v, r);
+  if constexpr (R::local)
+    if (r.listener != nullptr) r.active.n = r.listener->AfterSpringPass(ws.f.data());
+}
+
 template <class R>
 void ExplicitEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws, R r, Guard& g) {
   double* __restrict x = s.x_m.data();
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, r);
+  SpringPassThenListener(m, ws, x, v, r);
   FinalNodePass(t, f, x, v, x, v, r, g, [&](std::int32_t e, std::int32_t i, double force_N) {
     const double a = t.inv_mass[i] * force_N;
     x[e] += h * v[e];
@@ -59,7 +68,7 @@ void SymplecticEuler(const MsmModel& m, MsmState& s, double h, MsmWorkspace& ws,
   double* __restrict v = s.v_m_per_s.data();
   double* __restrict f = ws.f.data();
   const NodeTerms t(m, s);
-  SpringPass(m, ws, x, v, r);
+  SpringPassThenListener(m, ws, x, v, r);
 #if HAPSIM_MSM_AVX512_KERNEL
   if (UsesAvx512(ws)) return SymplecticNodePassAvx512(t, f, x, v, h, r, g);
 #endif

@@ -70,12 +70,12 @@ StepReport StepMsm(const MsmModel& model, MsmState& state, double dt_s, Integrat
                   Ranges<DenseRange, DenseRange, false>{nodes, nodes, DenseRange{model.NumSprings()}});
 }
 
-StepReport StepMsmLocal(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method,
-                        MsmWorkspace& ws, const LocalRegion& region) {
+StepReport StepMsmLocal(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method, MsmWorkspace& ws,
+                        const LocalRegion& region, SpringPassListener* listener) {
   auto list = [](const std::vector<std::int32_t>& v) { return ListRange{v.data(), static_cast<std::int32_t>(v.size())}; };
   return StepWith(model, state, dt_s, method, ws,
                   Ranges<ListRange, ListRange, true>{list(region.active_nodes), list(region.touched_nodes),
-                                                      list(region.springs)});
+                                                     list(region.springs), listener});
 }
 
 }  // namespace hapsim::core

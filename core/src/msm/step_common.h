@@ -18,6 +18,7 @@ struct Ranges {
   Nodes active;
   Nodes touched;
   Springs springs;
+  SpringPassListener* listener = nullptr;  // local update only
   static constexpr bool local = kLocal;
 };
 

@@ -186,9 +186,7 @@ StepReport CuttingScene::StepSkin(double h_s) {
     cut_box_.setEmpty();
   }
   for (const std::uint32_t v : loaded_nodes_) resting_.Wake(skin_.model, static_cast<std::int32_t>(v));
-  const StepReport r =
-      StepMsmLocal(skin_.model, skin_.state, h_s, kIntegrator, workspace_, resting_.Region(skin_.model));
-  resting_.Settle(skin_.model, skin_.state);
+  const StepReport r = resting_.Step(skin_.model, skin_.state, h_s, kIntegrator, workspace_);
   for (const std::int32_t i : resting_.JustRested()) {  // where they stand from now on
     HoldNode(i);
     resting_shift_bound_m_ =

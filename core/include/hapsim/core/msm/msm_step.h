@@ -57,10 +57,27 @@ struct StepReport {
 StepReport StepMsm(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method,
                    MsmWorkspace& ws);
 
+// Told by a local step of a scheme with one force evaluation (explicit or
+// symplectic Euler) when its spring pass is done: the springs' forces on the
+// region's frozen neighbours are then known, at the state the step starts
+// from. It may append nodes to the region's active list, completing their
+// accumulator entries with the forces of their springs outside the region;
+// the node pass then integrates them. Returns the active list's length.
+class SpringPassListener {
+ public:
+  // spring_forces_N: the accumulator, kSpringForceStride doubles per node.
+  virtual std::int32_t AfterSpringPass(double* spring_forces_N) = 0;
+
+ protected:
+  ~SpringPassListener() = default;
+};
+
 // Local update (gingival paper): only region.active_nodes are integrated;
 // every other node is frozen where it is. Forces come from the springs and
 // anchors incident to active nodes only, so the cost scales with the region.
-StepReport StepMsmLocal(const MsmModel& model, MsmState& state, double dt_s,
-                        IntegratorChoice method, MsmWorkspace& ws, const LocalRegion& region);
+// A listener may only append to region's lists (their buffers reserved by
+// MakeLocalRegion, so they do not move).
+StepReport StepMsmLocal(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method, MsmWorkspace& ws,
+                        const LocalRegion& region, SpringPassListener* listener = nullptr);
 
 }  // namespace hapsim::core

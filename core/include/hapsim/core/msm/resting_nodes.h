@@ -29,6 +29,7 @@
 #include "hapsim/core/msm/local_region.h"
 #include "hapsim/core/msm/msm_model.h"
 #include "hapsim/core/msm/msm_state.h"
+#include "hapsim/core/msm/msm_step.h"
 
 namespace hapsim::core {
 
@@ -75,6 +76,12 @@ class RestingNodes {
   // After the step on Region(): resting neighbours the step pulled wake;
   // every kRestCheckSteps, nodes quiet for quiet_steps and balanced rest.
   void Settle(const MsmModel& model, MsmState& state);
+  // StepMsmLocal on Region(), then Settle(). With explicit or symplectic
+  // Euler the resting neighbours are judged inside the step instead, from
+  // the forces its spring pass leaves on them (the same net force, at the
+  // same state, without walking their springs again): those pulled past
+  // force_N are integrated in that step.
+  StepReport Step(const MsmModel& model, MsmState& state, double dt_s, IntegratorChoice method, MsmWorkspace& ws);
 
   std::int32_t AwakeCount() const { return awake_count_; }
   // The nodes the last Settle() let rest: their last positions are where
@@ -93,6 +100,9 @@ class RestingNodes {
  private:
   bool Unbalanced(const MsmModel& model, const MsmState& state, std::int32_t node) const;
   bool UnbalancedAtRest(const MsmModel& model, const MsmState& state, std::int32_t node) const;
+  const double* StillSpringsForce_N(const MsmModel& model, const MsmState& state, std::int32_t node);
+  std::int32_t JudgeBoundary(const MsmModel& model, const MsmState& state, double* spring_forces_N);
+  void ForgetStillSprings(const MsmModel& model, std::int32_t node);
   void AddToRegion(const MsmModel& model, std::int32_t node);
   void ClearRegion();
   void RebuildRegion(const MsmModel& model);
@@ -101,6 +111,8 @@ class RestingNodes {
   std::vector<std::uint8_t> awake_;        // (n)
   std::vector<std::int32_t> quiet_steps_;  // (n) consecutive quiet steps of an awake node
   std::vector<std::int32_t> just_rested_;  // reserved (n)
+  std::vector<std::int32_t> woken_;        // reserved (n): JudgeBoundary's
+  bool judged_in_step_ = false;            // JudgeBoundary ran since the last Settle
   std::int32_t awake_count_ = 0;
   std::int32_t steps_since_rest_check_ = 0;
   // The region and its membership marks; stale = rebuilt at the next Region().
@@ -108,6 +120,10 @@ class RestingNodes {
   LocalRegion region_;
   std::vector<std::uint8_t> spring_in_region_;  // (spring capacity)
   std::vector<std::uint8_t> node_touched_;      // (n)
+  // Per resting node, the force [N] of its springs to nodes that stand
+  // still, while known (JudgeBoundary adds it to what the pass computed).
+  Eigen::Matrix3Xd still_springs_N_;               // (3 x n)
+  std::vector<std::uint8_t> still_springs_known_;  // (n)
 };
 
 }  // namespace hapsim::core
