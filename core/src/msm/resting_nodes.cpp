@@ -109,7 +109,7 @@ const double* RestingNodes::StillSpringsForce_N(const MsmModel& m, const MsmStat
 // that is the net force the step would apply to each at the state it starts
 // from. Those pulled past force_N wake and are integrated in this step, their
 // entries completed with their still springs. Judged first and woken after,
-// so that every judgement sees the springs the pass computed.
+// so that every judgement and completion sees the springs the pass computed.
 std::int32_t RestingNodes::JudgeBoundary(const MsmModel& m, const MsmState& s, double* f) {
   woken_.clear();
   const double* x = s.x_m.data();
@@ -132,12 +132,15 @@ std::int32_t RestingNodes::JudgeBoundary(const MsmModel& m, const MsmState& s, d
     }
     if (net2 > limit2) woken_.push_back(i);
   }
+  // Every entry is completed before any node wakes: a wake changes its
+  // neighbours' kept sums, and a spring between two woken nodes was in no
+  // pass — each takes it from its own sum.
   for (const std::int32_t i : woken_) {
     double* fi = f + kSpringForceStride * static_cast<std::size_t>(i);
     const double* still = StillSpringsForce_N(m, s, i);
     for (int c = 0; c < 3; ++c) fi[c] += still[c];
-    Wake(m, i);
   }
+  for (const std::int32_t i : woken_) Wake(m, i);
   judged_in_step_ = true;
   return static_cast<std::int32_t>(region_.active_nodes.size());
 }
