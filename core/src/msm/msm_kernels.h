@@ -292,15 +292,20 @@ struct NodeTerms {
         anchor_kp(m.anchor_kp_sum_N.data()),
         gravity{m.gravity_m_per_s2.x(), m.gravity_m_per_s2.y(), m.gravity_m_per_s2.z()} {}
 
-  // Total force component c on node i at (x, v): the accumulated spring
-  // force f (kSpringForceStride per node) plus the node terms. Resets the
-  // accumulator entry to zero.
+  // Total force component c on node i at (x, v) with spring force
+  // spring_f_N on it: the spring force plus the node terms.
+  double Total(double spring_f_N, const double* __restrict x, const double* __restrict v, std::int32_t i, int c) const {
+    const std::int32_t e = 3 * i + c;
+    return spring_f_N + f_ext[e] + f_res[e] + mass[i] * gravity[c] - damping[i] * v[e] - anchor_k[i] * x[e] +
+           anchor_kp[e];
+  }
+
+  // Total() with the accumulated spring force f (kSpringForceStride per
+  // node). Resets the accumulator entry to zero.
   double Take(double* __restrict f, const double* __restrict x, const double* __restrict v, std::int32_t i,
               int c) const {
-    const std::int32_t e = 3 * i + c;
     double& spring_f = f[kSpringForceStride * i + c];
-    const double total = spring_f + f_ext[e] + f_res[e] + mass[i] * gravity[c] - damping[i] * v[e] -
-                         anchor_k[i] * x[e] + anchor_kp[e];
+    const double total = Total(spring_f, x, v, i, c);
     spring_f = 0.0;
     return total;
   }

@@ -112,11 +112,9 @@ const double* RestingNodes::StillSpringsForce_N(const MsmModel& m, const MsmStat
 // so that every judgement and completion sees the springs the pass computed.
 std::int32_t RestingNodes::JudgeBoundary(const MsmModel& m, const MsmState& s, double* f) {
   woken_.clear();
+  const detail::NodeTerms terms(m, s);
   const double* x = s.x_m.data();
   const double* v = s.v_m_per_s.data();
-  const double* f_ext = s.f_ext_N.data();
-  const double* f_res = s.f_residual_N.data();
-  const double* anchor_kp = m.anchor_kp_sum_N.data();
   const double limit2 = config_.force_N * config_.force_N;
   for (const std::int32_t i : region_.touched_nodes) {
     const auto n = static_cast<std::size_t>(i);
@@ -125,9 +123,7 @@ std::int32_t RestingNodes::JudgeBoundary(const MsmModel& m, const MsmState& s, d
     const double* fi = f + kSpringForceStride * n;
     double net2 = 0.0;
     for (int c = 0; c < 3; ++c) {
-      const std::size_t e = 3 * n + c;
-      const double net = (fi[c] + still[c]) + f_ext[e] + f_res[e] + m.mass_kg[i] * m.gravity_m_per_s2[c] -
-                         m.absolute_damping_Ns_per_m[i] * v[e] - m.anchor_k_sum_N_per_m[i] * x[e] + anchor_kp[e];
+      const double net = terms.Total(fi[c] + still[c], x, v, i, c);
       net2 += net * net;
     }
     if (net2 > limit2) woken_.push_back(i);
@@ -255,6 +251,7 @@ const LocalRegion& RestingNodes::Region(const MsmModel& model) {
 }
 
 void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
+  just_rested_.clear();
   const double speed2 = config_.speed_m_per_s * config_.speed_m_per_s;
   for (const std::int32_t i : region_.active_nodes) {
     const auto n = static_cast<std::size_t>(i);
@@ -276,7 +273,6 @@ void RestingNodes::Settle(const MsmModel& model, MsmState& state) {
     }
   }
   judged_in_step_ = false;
-  just_rested_.clear();
   if (++steps_since_rest_check_ < kRestCheckSteps) return;
   steps_since_rest_check_ = 0;
   // Quiet long enough and nothing pulls it: it rests (and leaves the region).
