@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <set>
 
 #include "hapsim/common/clock.h"
 
@@ -42,15 +41,17 @@ void TrialBook::AddEndedLocked(TrialRecord record) {
 
 void TrialBook::Observe(const SessionTable& sessions) {
   std::lock_guard lock(mutex_);
-  std::set<const Session*> present;
+  // The pump runs every few milliseconds: present sessions are marked with
+  // the pass number rather than collected into a set (no allocation per pass).
+  const std::uint64_t pass = ++observe_passes_;
   for (const auto& [id, session] : sessions) {
     SessionTrials* trials = TrialsOf(*session);
     if (!trials) continue;  // a session made without trials
-    present.insert(session.get());
     auto [it, fresh] = running_.try_emplace(session.get());
     if (fresh || it->second.session != session) {
       it->second = Running{session, Describe(*session, *trials, TrialStats{}, "running")};
     }
+    it->second.seen_pass = pass;
     TrialStats stats;
     if (trials->TakeFinished(&stats)) AddEndedLocked(Describe(*session, *trials, stats, "reset"));
     if (trials->TakeRunning(&stats)) {
@@ -63,7 +64,7 @@ void TrialBook::Observe(const SessionTable& sessions) {
     }
   }
   for (auto it = running_.begin(); it != running_.end();) {
-    if (present.count(it->first)) {
+    if (it->second.seen_pass == pass) {
       ++it;
       continue;
     }

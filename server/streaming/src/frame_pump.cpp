@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "hapsim/common/clock.h"
+#include "hapsim/common/thread_setup.h"
 
 namespace hapsim::service {
 
@@ -20,6 +21,7 @@ void FramePump::Start() {
       std::this_thread::sleep_for(period);
     }
   });
+  common::NameThread(thread_, "frame-pump");  // told apart from the tick path in per-thread CPU figures
 }
 
 void FramePump::Stop() {

@@ -62,6 +62,9 @@ void ViewerHub::Pump(const SessionTable& sessions, std::int64_t now_ns) {
 void ViewerHub::PumpSession(const std::shared_ptr<Session>& session, std::int64_t now_ns) {
   std::shared_ptr<const SceneSnapshot> fresh;
   const bool is_new = session->TakeSnapshot(&fresh);
+  // Nothing new and nobody watching: nothing to keep or to offer. (The pump
+  // passes every few milliseconds over every session; most have no viewer.)
+  if (!is_new && session->counters().viewers.connected.load(std::memory_order_relaxed) == 0) return;
   std::shared_ptr<const SceneSnapshot> latest;
   std::shared_ptr<const Links> links;
   std::shared_ptr<TopologyHistory> history;

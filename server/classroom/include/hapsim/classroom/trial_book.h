@@ -52,6 +52,7 @@ class TrialBook {
     std::shared_ptr<Session> session;
     TrialRecord record;
     std::int64_t sunk_ns = 0;  // when the sink last had this trial
+    std::uint64_t seen_pass = 0;  // the last Observe pass that found its session in the table
   };
   static TrialRecord Describe(const Session& session, const SessionTrials& trials, const TrialStats& stats,
                               const char* end);
@@ -59,6 +60,7 @@ class TrialBook {
 
   mutable std::mutex mutex_;
   std::map<const Session*, Running> running_;
+  std::uint64_t observe_passes_ = 0;  // Observe's pass count: marks which running trials' sessions are present
   std::deque<TrialRecord> ended_;
   std::function<void(const TrialRecord&)> sink_;
   std::int64_t sink_running_every_ns_ = 1'000'000'000;
