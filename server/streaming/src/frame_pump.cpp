@@ -7,8 +7,13 @@
 
 namespace hapsim::service {
 
-FramePump::FramePump(const SessionRegistry* registry, ViewerHub* hub, PassListener after_pass, double poll_period_s)
-    : registry_(registry), hub_(hub), after_pass_(std::move(after_pass)), poll_period_s_(poll_period_s) {}
+FramePump::FramePump(const SessionRegistry* registry, ViewerHub* hub, PassListener after_pass, double poll_period_s,
+                     double idle_poll_period_s)
+    : registry_(registry),
+      hub_(hub),
+      after_pass_(std::move(after_pass)),
+      poll_period_s_(poll_period_s),
+      idle_poll_period_s_(idle_poll_period_s) {}
 
 FramePump::~FramePump() { Stop(); }
 
@@ -16,9 +21,10 @@ void FramePump::Start() {
   stop_ = false;
   thread_ = std::thread([this] {
     const auto period = std::chrono::duration<double>(poll_period_s_);
+    const auto idle_period = std::chrono::duration<double>(idle_poll_period_s_);
     while (!stop_.load()) {
       PumpOnce();
-      std::this_thread::sleep_for(period);
+      std::this_thread::sleep_for(hub_->AnyViewers() ? period : idle_period);
     }
   });
   common::NameThread(thread_, "frame-pump");  // told apart from the tick path in per-thread CPU figures

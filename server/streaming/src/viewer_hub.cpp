@@ -25,7 +25,9 @@ ViewerHub::Entry& ViewerHub::EntryLocked(const std::shared_ptr<Session>& session
   return e;
 }
 
-void ViewerHub::SetViewerCount(Entry& e) {
+void ViewerHub::SetLinksLocked(Entry& e, std::shared_ptr<const Links> links) {
+  streams_.store(streams_.load(std::memory_order_relaxed) - e.links->size() + links->size(), std::memory_order_relaxed);
+  e.links = std::move(links);
   e.session->counters().viewers.connected.store(static_cast<std::uint32_t>(e.links->size()));
 }
 
@@ -34,8 +36,7 @@ void ViewerHub::Add(const std::shared_ptr<Session>& session, std::shared_ptr<Vie
   Entry& e = EntryLocked(session);
   auto links = std::make_shared<Links>(*e.links);
   links->push_back(std::move(link));
-  e.links = std::move(links);
-  SetViewerCount(e);
+  SetLinksLocked(e, std::move(links));
 }
 
 void ViewerHub::Remove(const Session& session, const ViewerLink* link) {
@@ -44,8 +45,7 @@ void ViewerHub::Remove(const Session& session, const ViewerLink* link) {
   if (it == entries_.end()) return;
   auto links = std::make_shared<Links>(*it->second.links);
   std::erase_if(*links, [link](const auto& l) { return l.get() == link; });
-  it->second.links = std::move(links);
-  SetViewerCount(it->second);
+  SetLinksLocked(it->second, std::move(links));
 }
 
 std::shared_ptr<const SceneSnapshot> ViewerHub::LatestSnapshot(const Session& session) const {
@@ -112,6 +112,7 @@ void ViewerHub::EndStreamsOfClosedSessions(const SessionTable& sessions) {
       if (found != sessions.end() && found->second == it->second.session) {
         ++it;
       } else {
+        streams_.fetch_sub(it->second.links->size(), std::memory_order_relaxed);
         gone.push_back(std::move(it->second));
         it = entries_.erase(it);
       }
@@ -126,6 +127,7 @@ void ViewerHub::OnSessionClosed(Session& session, CloseReason why) {
     std::lock_guard lock(mutex_);
     const auto it = entries_.find(&session);
     if (it == entries_.end()) return;
+    streams_.fetch_sub(it->second.links->size(), std::memory_order_relaxed);
     gone = std::move(it->second);
     entries_.erase(it);
   }

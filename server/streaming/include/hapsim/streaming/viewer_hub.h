@@ -9,6 +9,7 @@
 // is never held while a stream is written to or finished (a gRPC reaction
 // may run inline and call back into the hub), and no tick ever takes it.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -43,6 +44,10 @@ class ViewerHub final : public SessionListener {
   // UNAVAILABLE when the server stops) and forgets it.
   void OnSessionClosed(Session& session, CloseReason why) override;
 
+  // Any thread: whether any session has a stream (the frame pump polls
+  // slower while none has).
+  bool AnyViewers() const { return streams_.load(std::memory_order_relaxed) > 0; }
+
  private:
   using Links = std::vector<std::shared_ptr<ViewerLink>>;
   struct Entry {
@@ -60,10 +65,12 @@ class ViewerHub final : public SessionListener {
   static void OfferToLinks(Session& session, const std::shared_ptr<const SceneSnapshot>& latest, const Links& links,
                            const TopologyHistory& history, std::int64_t now_ns);
   void EndStreamsOfClosedSessions(const SessionTable& sessions);
-  static void SetViewerCount(Entry& e);
+  // e's streams become `links`: its session's viewer count and streams_ follow.
+  void SetLinksLocked(Entry& e, std::shared_ptr<const Links> links);
 
   mutable std::mutex mutex_;
   std::map<const Session*, Entry> entries_;
+  std::atomic<std::size_t> streams_{0};  // streams over all entries (written under mutex_)
 };
 
 }  // namespace hapsim::service
