@@ -93,12 +93,15 @@ PoseVerdict Session::OfferPose(const PoseSample& pose) {
 }
 
 std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {
+  if (!last_tick_took_pose_.load(std::memory_order_relaxed)) return arrival_ns;
   return std::max(arrival_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
 }
 
 std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
+  const std::int64_t paced_ns = std::max(due_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
   last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
   const TickInput in = source_ ? AssembleReplayInput() : AssembleInput(now_ns);
+  last_tick_took_pose_.store(in.fresh_pose, std::memory_order_relaxed);
   if (tick_observer_) tick_observer_(in);
   StepScene(*scene_, in, step_s_);
   // The step's outputs, read once for the counters, the listener and the device.
@@ -112,7 +115,7 @@ std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
   interval_peak_N_ = std::max(interval_peak_N_, tool_force_N);
   if (in.tool.valid && !source_) PublishForceModel(in, model, now_ns);
   if ((in.tick + 1) % ticks_per_frame_ == 0) PublishSnapshot(in);
-  return NextDueNs(in, due_ns, now_ns);
+  return NextDueNs(in, due_ns, paced_ns, now_ns);
 }
 
 TickInput Session::AssembleInput(std::int64_t now_ns) {
@@ -172,14 +175,16 @@ TickInput Session::AssembleReplayInput() {
 }
 
 // A streaming device clocks the session: the next tick comes with its next
-// pose, and this deadline (one period plus the slack after a device tick)
+// pose, and this deadline (one period plus the slack after a device tick —
+// after when it would have run had it waited for PoseDueNs's half period)
 // only fires if that pose is late. Without a device the session ticks on a
 // 1 kHz grid shared by all sessions, so their ticks coalesce into one
 // wake-up. After a long stall the schedule re-anchors instead of bursting.
-std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const {
+std::int64_t Session::NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t paced_ns,
+                                std::int64_t now_ns) const {
   std::int64_t next;
   if (in.tool.valid && !source_) {  // a device streams
-    next = due_ns + period_ns_ + (in.fresh_pose ? pose_slack_ns_ : 0);
+    next = in.fresh_pose ? paced_ns + period_ns_ + pose_slack_ns_ : due_ns + period_ns_;
   } else {
     next = (due_ns / period_ns_ + 1) * period_ns_;
   }

@@ -209,9 +209,29 @@ TEST(SessionTick, TheDeviceClocksTheSessionAndTheTimerOnlyCoversALatePose) {
   EXPECT_EQ(timer, arrival + kPeriodNs + slack_ns);
   // The pose was late: the timer tick reuses it and keeps the period.
   EXPECT_EQ(session->RunTick(timer, timer), timer + kPeriodNs);
-  // A device faster than the tick rate cannot speed sim time up.
-  EXPECT_EQ(session->PoseDueNs(timer + 100'000), timer + kPeriodNs / 2);
   EXPECT_EQ(session->counters().tick.device_clocked_ticks.load(), 1u);
+}
+
+TEST(SessionTick, APoseAfterATimerTickIsAnsweredAtOnceAndTheTicksKeepTheirPace) {
+  CapturedModels models;
+  auto session = MakeSession("tissue_block", &models);
+  const std::int64_t slack_ns = static_cast<std::int64_t>(session->config().pose_slack_s * 1e9);
+  const std::int64_t first = kT0Ns + 1'500'000;
+  session->OfferPose(PressingPose(0, 1, first));
+  const std::int64_t timer = session->RunTick(first, first);
+  EXPECT_EQ(session->RunTick(timer, timer), timer + kPeriodNs);  // the next pose is late (or held back)
+  // It comes 0.1 ms after that timer tick: answered at once...
+  const std::int64_t arrival = timer + 100'000;
+  session->OfferPose(PressingPose(1, 1, arrival));
+  EXPECT_EQ(session->PoseDueNs(arrival), arrival);
+  // ...and the deadline after it is where it would be had the tick waited
+  // half a period after the timer tick: the same ticks per second.
+  EXPECT_EQ(session->RunTick(arrival, arrival), timer + kPeriodNs / 2 + kPeriodNs + slack_ns);
+  // A device faster than the tick rate cannot speed sim time up: a pose
+  // right after a tick that took one waits half a period after it.
+  session->OfferPose(PressingPose(2, 1, arrival + 100'000));
+  EXPECT_EQ(session->PoseDueNs(arrival + 100'000), arrival + kPeriodNs / 2);
+  EXPECT_EQ(session->counters().tick.device_clocked_ticks.load(), 2u);
 }
 
 TEST(SessionTick, ATickStartedMoreThanOnePeriodAfterItWasDueIsLate) {

@@ -99,8 +99,12 @@ class Session : public TickTask {
   // owns the session. On true, wake the session at PoseDueNs().
   PoseVerdict OfferPose(const PoseSample& pose);
   // When a tick for a pose that arrived at arrival_ns may run: at once,
-  // unless the previous tick started less than half a period earlier (a
-  // device streaming faster than the tick rate must not speed up sim time).
+  // unless the previous tick took a pose too and started less than half a
+  // period earlier (a device streaming faster than the tick rate must not
+  // speed up sim time). After a deadline tick (the pose was late, or its
+  // deadband held it back) the pose is answered at once, and the deadline
+  // after it is set as if it had waited that half period (NextDueNs), so the
+  // ticks keep their pace.
   std::int64_t PoseDueNs(std::int64_t arrival_ns) const;
 
   // Pool worker (TickTask). One tick: input, step, force model, snapshot;
@@ -134,7 +138,9 @@ class Session : public TickTask {
  private:
   TickInput AssembleInput(std::int64_t now_ns);
   TickInput AssembleReplayInput();
-  std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns) const;
+  // paced_ns: when the tick would have run had every pose tick waited half
+  // a period after the previous tick (its due time, or later).
+  std::int64_t NextDueNs(const TickInput& in, std::int64_t due_ns, std::int64_t paced_ns, std::int64_t now_ns) const;
   void RecordTiming(const TickInput& in, std::int64_t due_ns, std::int64_t now_ns, double tool_force_N);
   void PublishForceModel(const TickInput& in, const core::LocalForceModel& model, std::int64_t now_ns);
   void PublishSnapshot(const TickInput& in);
@@ -161,6 +167,7 @@ class Session : public TickTask {
   std::atomic<bool> paused_{false};
   std::atomic<std::uint32_t> reset_requests_{0};
   std::atomic<std::int64_t> last_tick_start_ns_{0};  // written by the tick, read by the DDS thread
+  std::atomic<bool> last_tick_took_pose_{false};     // likewise: the last tick took a fresh pose
 
   // Tick state (one worker at a time; the pool orders successive ticks).
   PoseSample last_pose_;
