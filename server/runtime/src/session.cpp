@@ -94,11 +94,15 @@ PoseVerdict Session::OfferPose(const PoseSample& pose) {
 
 std::int64_t Session::PoseDueNs(std::int64_t arrival_ns) const {
   if (!last_tick_took_pose_.load(std::memory_order_relaxed)) return arrival_ns;
-  return std::max(arrival_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
+  return std::max(arrival_ns, HalfPeriodAfterLastTickNs());
+}
+
+std::int64_t Session::HalfPeriodAfterLastTickNs() const {
+  return last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2;
 }
 
 std::int64_t Session::RunTick(std::int64_t due_ns, std::int64_t now_ns) {
-  const std::int64_t paced_ns = std::max(due_ns, last_tick_start_ns_.load(std::memory_order_relaxed) + period_ns_ / 2);
+  const std::int64_t paced_ns = std::max(due_ns, HalfPeriodAfterLastTickNs());
   last_tick_start_ns_.store(now_ns, std::memory_order_relaxed);
   const TickInput in = source_ ? AssembleReplayInput() : AssembleInput(now_ns);
   last_tick_took_pose_.store(in.fresh_pose, std::memory_order_relaxed);

@@ -136,6 +136,8 @@ class Session : public TickTask {
   void RequestReset() { reset_requests_.fetch_add(1); }
 
  private:
+  // The soonest a pose tick may follow the last tick (PoseDueNs's guard).
+  std::int64_t HalfPeriodAfterLastTickNs() const;
   TickInput AssembleInput(std::int64_t now_ns);
   TickInput AssembleReplayInput();
   // paced_ns: when the tick would have run had every pose tick waited half
