@@ -15,6 +15,7 @@
 
 #include "hapsim/app/server_app.h"
 #include "hapsim/common/flags.h"
+#include "hapsim/common/idle_wait.h"
 #include "hapsim/common/logging.h"
 #include "hapsim/common/shutdown_deadline.h"
 #include "hapsim/common/thread_setup.h"
@@ -108,6 +109,7 @@ struct ServerFlags {
   std::string directory, server_name = HostName(), peer_tls_ca;
   std::string tick_cpus;
   std::string dds_io_scheduling = "batch";
+  std::string tick_wait = "sleep";
   double peer_timeout_ms = 1000.0;
   double recording_flush_ms = 50.0, recording_fsync_ms = 0.0, checkpoint_every_s = 1.0, retention_days = 90.0;
   bool database_fsync = false;
@@ -179,6 +181,10 @@ void AddServerFlags(hapsim::common::Flags& flags, hapsim::service::ServerOptions
             "CPUs of the 1 kHz path, e.g. 0 or 2-3: the tick workers and pose receive threads run only\n"
             "there, every other thread (gRPC, viewers, web console, recording) only on the other CPUs; the\n"
             "tick pool defaults to one worker per tick CPU. Empty: no pinning");
+  flags.Add("tick-wait", &f->tick_wait,
+            "sleep or spin: between ticks a worker sleeps, or polls the clock yielding to other threads so its\n"
+            "CPU never idles (on a VM an idle CPU can be woken late; docs/deploy.md). spin keeps one CPU per\n"
+            "worker busy: for CPUs given to the 1 kHz path. Not with --rt-priority");
   flags.Add("dds-io-scheduling", &f->dds_io_scheduling,
             "batch or normal: the thread that routes poses to sessions waits for DDS's receive thread to\n"
             "finish (batch: fewer context switches per pose) or preempts it (normal). Moot with --rt-priority");
@@ -261,6 +267,20 @@ bool ApplyServerFlags(const ServerFlags& f, hapsim::service::ServerOptions* opti
   }
   options->dds_io_scheduling = f.dds_io_scheduling == "batch" ? hapsim::dds::IoThread::Scheduling::kBatch
                                                               : hapsim::dds::IoThread::Scheduling::kNormal;
+  const auto tick_wait = hapsim::common::ParseIdleWait(f.tick_wait);
+  if (!tick_wait) {
+    std::fprintf(stderr, "hapsim-server: --tick-wait: \"%s\" is neither sleep nor spin\n", f.tick_wait.c_str());
+    return false;
+  }
+  options->tick_wait = *tick_wait;
+  // A real-time thread that never sleeps is throttled by the kernel (by
+  // default 50 ms of every second, sched_rt_runtime_us): every tick stops.
+  if (options->tick_wait == hapsim::common::IdleWait::kSpin && options->rt_priority > 0) {
+    std::fprintf(stderr,
+                 "hapsim-server: --tick-wait spin and --rt-priority exclude each other: the kernel stops a real-time "
+                 "thread that never sleeps for 50 ms of every second (sched_rt_runtime_us)\n");
+    return false;
+  }
   options->sessions.tick_period_s = 1.0 / f.tick_hz;
   options->sessions.max_sessions = static_cast<std::size_t>(f.max_sessions);
   options->sessions.pose_timeout_s = f.pose_timeout_ms * 1e-3;

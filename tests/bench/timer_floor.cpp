@@ -8,6 +8,10 @@
 //
 // Counters: wakes, the share more than one period late (a tick the server
 // would count late), and the lateness p50 / p99 / max in microseconds.
+// Second argument: a spin lead in microseconds — the thread sleeps to that
+// long before each deadline and then polls the clock up to it (0: sleep all
+// the way, the tick workers' way; 1000: never sleep, the core always busy).
+// Whether a wake-up's lateness is the sleep's or the core's own stalls.
 #include <benchmark/benchmark.h>
 #include <sys/prctl.h>
 #include <time.h>
@@ -28,13 +32,20 @@ std::int64_t MonotonicNs() {
 
 void BM_TimerFloor(benchmark::State& state) {
   const auto wakes = static_cast<std::size_t>(state.range(0));
+  const std::int64_t spin_lead_ns = 1000 * state.range(1);
   prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
   std::vector<std::int64_t> late_ns(wakes);
   for (auto _ : state) {
     std::int64_t due_ns = MonotonicNs() + kPeriod_ns;
     for (std::size_t k = 0; k < wakes; ++k) {
-      const timespec due{static_cast<time_t>(due_ns / 1'000'000'000), static_cast<long>(due_ns % 1'000'000'000)};
-      clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &due, nullptr);
+      const std::int64_t sleep_to_ns = due_ns - spin_lead_ns;
+      if (MonotonicNs() < sleep_to_ns) {
+        const timespec until{static_cast<time_t>(sleep_to_ns / 1'000'000'000),
+                             static_cast<long>(sleep_to_ns % 1'000'000'000)};
+        clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &until, nullptr);
+      }
+      while (MonotonicNs() < due_ns) {
+      }
       late_ns[k] = MonotonicNs() - due_ns;
       due_ns += kPeriod_ns;  // absolute deadlines: a late wake does not shift the next ones
     }
@@ -51,7 +62,12 @@ void BM_TimerFloor(benchmark::State& state) {
   state.counters["p99_us"] = at(0.99);
   state.counters["max_us"] = static_cast<double>(sorted.back()) / 1e3;
 }
-BENCHMARK(BM_TimerFloor)->Arg(10'000)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TimerFloor)
+    ->Args({10'000, 0})
+    ->Args({10'000, 200})
+    ->Args({10'000, 1000})
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -34,6 +34,8 @@ expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-server" --listen 
 expect 2 "--tick-cpus: \"0-\" is not a CPU list like 0, 0,2 or 2-3" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-cpus 0-
 expect 2 "--tick-cpus: CPU 1000 is not one this process may run on" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-cpus 1000
 expect 2 "--dds-io-scheduling: \"fast\" is neither batch nor normal" "$bin/hapsim-server" --listen 127.0.0.1:0 --dds-io-scheduling fast
+expect 2 "--tick-wait: \"poll\" is neither sleep nor spin" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-wait poll
+expect 2 "--tick-wait spin and --rt-priority exclude each other" "$bin/hapsim-server" --listen 127.0.0.1:0 --tick-wait spin --rt-priority 10
 expect 2 "--clock-phase-spread must be within \[0, 1\]" "$bin/hapsim-load" --clock-phase-spread 2
 expect 2 "--rt-priority must be within \[0, 98\]" "$bin/hapsim-bridge" --rt-priority 99
 # Durations that would overflow when converted to ns or tick counts

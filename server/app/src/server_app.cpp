@@ -110,8 +110,9 @@ void ServerApp::AssembleParts(const ServerOptions& o) {
   spdlog::info("DDS domain {} with config: {}; server instance {:016x}", o.dds.domain_id, dds_->config_origin(),
                dds_->instance());
   const int default_workers = o.tick_cpus.empty() ? DefaultWorkerCount() : static_cast<int>(o.tick_cpus.size());
-  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : default_workers);
-  spdlog::info("tick pool: {} workers", pool_->workers());
+  pool_ = std::make_unique<TickPool>(o.workers > 0 ? o.workers : default_workers, TickPool::kDefaultCoalesceNs,
+                                     o.tick_wait);
+  spdlog::info("tick pool: {} workers (--tick-wait {})", pool_->workers(), common::IdleWaitName(o.tick_wait));
   if (o.persistence) persistence_ = std::make_unique<Persistence>(*o.persistence, &policy_, &viewers_);
   registry_ = std::make_unique<SessionRegistry>(
       o.sessions, pool_.get(), dds_.get(), persistence_ ? static_cast<SessionListener*>(persistence_.get()) : &viewers_,

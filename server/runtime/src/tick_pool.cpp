@@ -30,7 +30,8 @@ int DefaultWorkerCount() {
   return std::max(1, CPU_COUNT(&set));
 }
 
-TickPool::TickPool(int workers, std::int64_t coalesce_ns) : coalesce_ns_(coalesce_ns) {
+TickPool::TickPool(int workers, std::int64_t coalesce_ns, common::IdleWait wait)
+    : coalesce_ns_(coalesce_ns), wait_(wait) {
   if (workers < 1 || workers > 256) throw std::invalid_argument("tick pool: workers must be within [1, 256]");
   heap_.reserve(1024);
   threads_.reserve(static_cast<std::size_t>(workers));
@@ -48,7 +49,7 @@ void TickPool::Stop() {
     if (stop_) return;
     stop_ = true;
   }
-  work_cv_.notify_all();
+  NotifyAll();
   for (auto& t : threads_) t.join();
 }
 
@@ -77,7 +78,7 @@ void TickPool::Add(TickTask* task, std::int64_t first_due_ns) {
     task->rerun_due_ns_ = kNeverNs;
     PushLocked(task, first_due_ns);
   }
-  work_cv_.notify_one();
+  NotifyOne();
 }
 
 void TickPool::Remove(TickTask* task) {
@@ -104,7 +105,17 @@ void TickPool::Wake(TickTask* task, std::int64_t due_ns) {
     PushLocked(task, due_ns);
     if (heap_.front().task != task) return;  // an earlier tick is already pending: nobody needs waking
   }
+  NotifyOne();
+}
+
+void TickPool::NotifyOne() {
+  posted_.fetch_add(1, std::memory_order_release);
   work_cv_.notify_one();
+}
+
+void TickPool::NotifyAll() {
+  posted_.fetch_add(1, std::memory_order_release);
+  work_cv_.notify_all();
 }
 
 void TickPool::WorkerLoop() {
@@ -114,19 +125,35 @@ void TickPool::WorkerLoop() {
   while (!stop_) {
     DropStaleLocked();
     if (heap_.empty()) {
-      work_cv_.wait(lock);
+      WaitForWork(lock, kNeverNs);
       ++stats_.wakeups;
       continue;
     }
     const std::int64_t now_ns = common::SteadyNowNs();
     const Entry top = heap_.front();
     if (top.due_ns > now_ns + coalesce_ns_) {
-      work_cv_.wait_until(lock, AtSteadyNs(top.due_ns));
+      WaitForWork(lock, top.due_ns);
       ++stats_.wakeups;
       continue;
     }
     RunTopTick(lock, now_ns);
   }
+}
+
+void TickPool::WaitForWork(std::unique_lock<std::mutex>& lock, std::int64_t until_ns) {
+  if (wait_ == common::IdleWait::kSleep) {
+    if (until_ns == kNeverNs) {
+      work_cv_.wait(lock);
+    } else {
+      work_cv_.wait_until(lock, AtSteadyNs(until_ns));
+    }
+    return;
+  }
+  // Read under the lock: work posted after the unlock changes it.
+  const std::uint64_t seen = posted_.load(std::memory_order_acquire);
+  lock.unlock();
+  while (posted_.load(std::memory_order_acquire) == seen && common::SteadyNowNs() < until_ns) sched_yield();
+  lock.lock();
 }
 
 void TickPool::PopTopLocked() {
@@ -147,7 +174,7 @@ void TickPool::RunTopTick(std::unique_lock<std::mutex>& lock, std::int64_t now_n
   // More ticks due now: recruit an idle worker for them.
   const bool more_due = !heap_.empty() && heap_.front().due_ns <= now_ns + coalesce_ns_;
   lock.unlock();
-  if (more_due) work_cv_.notify_one();
+  if (more_due) NotifyOne();
   const std::int64_t next_due_ns = task->RunTick(top.due_ns, common::SteadyNowNs());
   lock.lock();
   ++stats_.ticks;

@@ -1,7 +1,9 @@
-// TickPool: deadline order, wake-ups, one worker per task, removal.
+// TickPool: deadline order, wake-ups, one worker per task, removal — with
+// workers that sleep between ticks and with workers that spin.
 #include "hapsim/runtime/tick_pool.h"
 
 #include <gtest/gtest.h>
+#include <time.h>
 
 #include <atomic>
 #include <chrono>
@@ -48,8 +50,11 @@ bool WaitFor(const std::function<bool()>& done, std::int64_t timeout_ns = 2'000 
   return true;
 }
 
-TEST(TickPool, NoTickStartsBeforeItIsDue) {
-  TickPool pool(2);
+// Every property holds whichever way an idle worker waits.
+class TickPoolWaits : public ::testing::TestWithParam<common::IdleWait> {};
+
+TEST_P(TickPoolWaits, NoTickStartsBeforeItIsDue) {
+  TickPool pool(2, TickPool::kDefaultCoalesceNs, GetParam());
   std::vector<std::unique_ptr<PeriodicTask>> tasks;
   for (int i = 0; i < 16; ++i) tasks.push_back(std::make_unique<PeriodicTask>(kMs));
   const std::int64_t start = SteadyNowNs();
@@ -62,8 +67,8 @@ TEST(TickPool, NoTickStartsBeforeItIsDue) {
   for (auto& t : tasks) EXPECT_EQ(t->early_.load(), 0);
 }
 
-TEST(TickPool, WakeBringsAnIdleTaskForward) {
-  TickPool pool(1);
+TEST_P(TickPoolWaits, WakeBringsAnIdleTaskForward) {
+  TickPool pool(1, TickPool::kDefaultCoalesceNs, GetParam());
   PeriodicTask task(0);  // no deadline of its own: ticks only when woken
   pool.Add(&task, kNeverNs);
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -77,8 +82,8 @@ TEST(TickPool, WakeBringsAnIdleTaskForward) {
   pool.Remove(&task);
 }
 
-TEST(TickPool, AWakeLaterThanThePendingTickChangesNothing) {
-  TickPool pool(1);
+TEST_P(TickPoolWaits, AWakeLaterThanThePendingTickChangesNothing) {
+  TickPool pool(1, TickPool::kDefaultCoalesceNs, GetParam());
   PeriodicTask task(0);
   const std::int64_t due = SteadyNowNs() + 30 * kMs;
   pool.Add(&task, due);
@@ -90,8 +95,8 @@ TEST(TickPool, AWakeLaterThanThePendingTickChangesNothing) {
   pool.Remove(&task);
 }
 
-TEST(TickPool, ATaskNeverRunsOnTwoWorkersAtOnceAndAWakeDuringItsTickIsKept) {
-  TickPool pool(4);
+TEST_P(TickPoolWaits, ATaskNeverRunsOnTwoWorkersAtOnceAndAWakeDuringItsTickIsKept) {
+  TickPool pool(4, TickPool::kDefaultCoalesceNs, GetParam());
   PeriodicTask task(0, /*work_ns=*/2 * kMs);
   pool.Add(&task, SteadyNowNs());
   // Hammer it with wakes while it runs: each must be kept (as a rerun), none
@@ -108,8 +113,8 @@ TEST(TickPool, ATaskNeverRunsOnTwoWorkersAtOnceAndAWakeDuringItsTickIsKept) {
   EXPECT_EQ(task.overlaps_.load(), 0);
 }
 
-TEST(TickPool, RemoveWaitsForTheRunningTickAndNoTickFollows) {
-  TickPool pool(2);
+TEST_P(TickPoolWaits, RemoveWaitsForTheRunningTickAndNoTickFollows) {
+  TickPool pool(2, TickPool::kDefaultCoalesceNs, GetParam());
   auto task = std::make_unique<PeriodicTask>(kMs, /*work_ns=*/5 * kMs);
   pool.Add(task.get(), SteadyNowNs());
   ASSERT_TRUE(WaitFor([&] { return task->ticks_.load() >= 1; }));
@@ -122,8 +127,8 @@ TEST(TickPool, RemoveWaitsForTheRunningTickAndNoTickFollows) {
   std::this_thread::sleep_for(std::chrono::milliseconds(10));
 }
 
-TEST(TickPool, SixtyFourTasksAtOneKilohertzAllKeepTicking) {
-  TickPool pool(2);
+TEST_P(TickPoolWaits, SixtyFourTasksAtOneKilohertzAllKeepTicking) {
+  TickPool pool(2, TickPool::kDefaultCoalesceNs, GetParam());
   std::vector<std::unique_ptr<PeriodicTask>> tasks;
   const std::int64_t start = SteadyNowNs();
   for (int i = 0; i < 64; ++i) {
@@ -143,6 +148,40 @@ TEST(TickPool, SixtyFourTasksAtOneKilohertzAllKeepTicking) {
   }
   EXPECT_GE(pool.stats().ticks, 64u * 100u);
 }
+
+// This process's CPU time [ns] (the test's thread sleeps: the rest is the pool's).
+std::int64_t ProcessCpuNs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return std::int64_t{t.tv_sec} * 1'000'000'000 + t.tv_nsec;
+}
+
+// What the two ways of waiting are for: a spinning worker keeps its CPU busy
+// while its next tick is far off (the CPU never idles), a sleeping one leaves
+// it idle. On a shared CI core the spinner gets at least a share of it.
+TEST(TickPool, ASpinningWorkerKeepsItsCpuBusyBetweenTicksAndASleepingOneDoesNot) {
+  for (const common::IdleWait wait : {common::IdleWait::kSleep, common::IdleWait::kSpin}) {
+    TickPool pool(1, TickPool::kDefaultCoalesceNs, wait);
+    PeriodicTask task(0);
+    pool.Add(&task, SteadyNowNs() + 10'000 * kMs);  // nothing due during the measurement
+    const std::int64_t wall0 = SteadyNowNs(), cpu0 = ProcessCpuNs();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const double busy = static_cast<double>(ProcessCpuNs() - cpu0) / static_cast<double>(SteadyNowNs() - wall0);
+    pool.Remove(&task);
+    EXPECT_EQ(task.ticks_.load(), 0);
+    if (wait == common::IdleWait::kSpin) {
+      EXPECT_GT(busy, 0.25) << "a spinning worker left its CPU idle";
+    } else {
+      EXPECT_LT(busy, 0.05) << "a sleeping worker kept its CPU busy";
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SleepAndSpin, TickPoolWaits,
+                         ::testing::Values(common::IdleWait::kSleep, common::IdleWait::kSpin),
+                         [](const ::testing::TestParamInfo<common::IdleWait>& param) {
+                           return param.param == common::IdleWait::kSleep ? "Sleep" : "Spin";
+                         });
 
 TEST(TickPool, RefusesAnUnusableWorkerCount) {
   EXPECT_THROW(TickPool(0), std::invalid_argument);

@@ -47,6 +47,9 @@ struct ServerOptions {
   // only there, every other thread only on the process's other CPUs (and the
   // tick pool defaults to one worker per tick CPU). Empty: no pinning.
   std::vector<int> tick_cpus;
+  // How an idle tick worker waits: asleep, or spinning so its CPU never
+  // idles (common/idle_wait.h; for CPUs given to the 1 kHz path).
+  common::IdleWait tick_wait = common::IdleWait::kSleep;
   // The DDS thread that routes poses to their sessions: kBatch (default) lets
   // Cyclone's receive thread finish before it runs, kNormal preempts it
   // (two more context switches per wake; kept to measure the difference).

@@ -12,13 +12,20 @@
 // its tick runs is remembered and applied when the tick returns. Ticks due
 // within `coalesce_ns` of each other run back to back on one wake-up, so many
 // sessions on a shared timer grid cost one wake-up per period, not one each.
+//
+// An idle worker waits for its next tick asleep on a condition variable
+// (IdleWait::kSleep, the default) or spinning: polling the clock and the
+// posted work, yielding its CPU between polls (common/idle_wait.h: why).
 #pragma once
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <limits>
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#include "hapsim/common/idle_wait.h"
 
 namespace hapsim::service {
 
@@ -45,13 +52,15 @@ class TickTask {
 
 struct TickPoolStats {
   std::uint64_t ticks = 0;        // RunTick calls
-  std::uint64_t wakeups = 0;      // worker wake-ups (timer or notify)
+  std::uint64_t wakeups = 0;      // worker wake-ups (timer or notify; spinning: ends of a wait)
 };
 
 class TickPool {
  public:
+  static constexpr std::int64_t kDefaultCoalesceNs = 20'000;
   // workers >= 1. Worker threads start at once.
-  explicit TickPool(int workers, std::int64_t coalesce_ns = 20'000);
+  explicit TickPool(int workers, std::int64_t coalesce_ns = kDefaultCoalesceNs,
+                    common::IdleWait wait = common::IdleWait::kSleep);
   static constexpr const char* kWorkerThreadName = "tick-worker";
   ~TickPool();  // Stop()
   TickPool(const TickPool&) = delete;
@@ -80,6 +89,12 @@ class TickPool {
     TickTask* task;
   };
   void WorkerLoop();
+  // Until until_ns (kNeverNs: no deadline) or until work is posted: the lock
+  // is held on entry and on return.
+  void WaitForWork(std::unique_lock<std::mutex>& lock, std::int64_t until_ns);
+  // Every change a waiting worker must see (a tick pushed earlier, Stop).
+  void NotifyOne();
+  void NotifyAll();
   // WorkerLoop's steps, under the mutex: drop the heap's stale entries; run
   // the due tick at the top (the lock released while it runs) and reschedule it.
   void DropStaleLocked();
@@ -89,6 +104,9 @@ class TickPool {
   bool IsStaleLocked(const Entry& e) const;
 
   const std::int64_t coalesce_ns_;
+  const common::IdleWait wait_;
+  // Bumped by every notification: what a spinning worker polls (it holds no lock).
+  std::atomic<std::uint64_t> posted_{0};
   mutable std::mutex mutex_;
   std::condition_variable work_cv_;     // workers wait here
   std::condition_variable removed_cv_;  // Remove() waits here for a running tick
