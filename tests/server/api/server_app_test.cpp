@@ -289,6 +289,34 @@ TEST_F(ServerAppTest, EachDeviceReceivesOnlyItsOwnSessionsModels) {
   EXPECT_EQ(Info("room-b").owning_device_id(), 2u);
 }
 
+// --tick-wait spin: the same server with tick workers that poll instead of
+// sleeping still ticks on each device's poses and answers each with models.
+TEST_F(ServerAppTest, AServerWhoseTickWorkersSpinAnswersEachDevicesPoses) {
+  ServerOptions o;
+  o.listen_address = "127.0.0.1:0";
+  o.dds.domain_id = NextDomain();
+  o.workers = 1;
+  o.tick_wait = common::IdleWait::kSpin;
+  ServerApp spinning(o);
+  auto stub = hapsim::v1::SessionService::NewStub(
+      grpc::CreateChannel("127.0.0.1:" + std::to_string(spinning.bound_port()), grpc::InsecureChannelCredentials()));
+  for (const char* id : {"spin-a", "spin-b"}) {
+    grpc::ClientContext ctx;
+    hapsim::v1::CreateSessionRequest req;
+    req.set_session_id(id);
+    req.set_scene("tissue_block");
+    hapsim::v1::SessionInfo info;
+    ASSERT_TRUE(CallOk(stub->CreateSession(&ctx, req, &info)));
+  }
+  TestDevice a(o.dds.domain_id, "spin-a", 1), b(o.dds.domain_id, "spin-b", 2);
+  StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 200 && b.models_own >= 200; });
+  EXPECT_GE(a.models_own, 200u);
+  EXPECT_GE(b.models_own, 200u);
+  EXPECT_EQ(a.models_other, 0u);
+  EXPECT_EQ(b.models_other, 0u);
+  spinning.Shutdown();
+}
+
 TEST_F(ServerAppTest, APoseNamingAnotherSessionInsideAPartitionMovesNeitherAndIsCounted) {
   ASSERT_TRUE(CallOk(Create("room-a")));
   ASSERT_TRUE(CallOk(Create("room-b")));
