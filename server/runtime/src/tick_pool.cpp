@@ -108,13 +108,15 @@ void TickPool::Wake(TickTask* task, std::int64_t due_ns) {
   NotifyOne();
 }
 
+// Sleeping workers wait on the condition variable alone: the counter (an
+// atomic add on every pose's wake-up) is kept only for spinning ones.
 void TickPool::NotifyOne() {
-  posted_.fetch_add(1, std::memory_order_release);
+  if (wait_ == common::IdleWait::kSpin) posted_.fetch_add(1, std::memory_order_release);
   work_cv_.notify_one();
 }
 
 void TickPool::NotifyAll() {
-  posted_.fetch_add(1, std::memory_order_release);
+  if (wait_ == common::IdleWait::kSpin) posted_.fetch_add(1, std::memory_order_release);
   work_cv_.notify_all();
 }
 

@@ -54,13 +54,18 @@ class ServerAppTest : public ::testing::Test {
 
   grpc::Status Create(const std::string& id, const std::string& scene = "tissue_block",
                       std::map<std::string, double> params = {}) {
+    return CreateOn(*sessions_, id, scene, std::move(params));
+  }
+  // The same on another server's session service.
+  static grpc::Status CreateOn(hapsim::v1::SessionService::Stub& stub, const std::string& id,
+                               const std::string& scene = "tissue_block", std::map<std::string, double> params = {}) {
     grpc::ClientContext ctx;
     hapsim::v1::CreateSessionRequest req;
     req.set_session_id(id);
     req.set_scene(scene);
     for (const auto& [k, v] : params) (*req.mutable_params())[k] = v;
     hapsim::v1::SessionInfo info;
-    return sessions_->CreateSession(&ctx, req, &info);
+    return stub.CreateSession(&ctx, req, &info);
   }
   using Stream = grpc::ClientReaderWriter<hapsim::v1::ViewerMessage, hapsim::v1::Frame>;
   std::unique_ptr<Stream> Subscribe(grpc::ClientContext* ctx, const std::string& id, std::uint32_t ack_window = 0) {
@@ -300,14 +305,8 @@ TEST_F(ServerAppTest, AServerWhoseTickWorkersSpinAnswersEachDevicesPoses) {
   ServerApp spinning(o);
   auto stub = hapsim::v1::SessionService::NewStub(
       grpc::CreateChannel("127.0.0.1:" + std::to_string(spinning.bound_port()), grpc::InsecureChannelCredentials()));
-  for (const char* id : {"spin-a", "spin-b"}) {
-    grpc::ClientContext ctx;
-    hapsim::v1::CreateSessionRequest req;
-    req.set_session_id(id);
-    req.set_scene("tissue_block");
-    hapsim::v1::SessionInfo info;
-    ASSERT_TRUE(CallOk(stub->CreateSession(&ctx, req, &info)));
-  }
+  ASSERT_TRUE(CallOk(CreateOn(*stub, "spin-a")));
+  ASSERT_TRUE(CallOk(CreateOn(*stub, "spin-b")));
   TestDevice a(o.dds.domain_id, "spin-a", 1), b(o.dds.domain_id, "spin-b", 2);
   StreamPoses({&a, &b}, 3000, [&] { return a.models_own >= 200 && b.models_own >= 200; });
   EXPECT_GE(a.models_own, 200u);
@@ -366,14 +365,6 @@ TEST_F(ServerAppTest, EachOfTwoServersServingOneSessionIdSeesTheOthersModelWrite
   auto other_channel =
       grpc::CreateChannel("127.0.0.1:" + std::to_string(other.bound_port()), grpc::InsecureChannelCredentials());
   auto other_sessions = hapsim::v1::SessionService::NewStub(other_channel);
-  auto create_on_other = [&](const std::string& id, const std::string& scene) {
-    grpc::ClientContext ctx;
-    hapsim::v1::CreateSessionRequest req;
-    req.set_session_id(id);
-    req.set_scene(scene);
-    hapsim::v1::SessionInfo info;
-    return other_sessions->CreateSession(&ctx, req, &info);
-  };
   const auto& ours = app_->dds().counters().foreign_model_writers;
   const auto& theirs = other.dds().counters().foreign_model_writers;
   auto wait_for = [](const std::function<bool()>& done) {
@@ -382,8 +373,8 @@ TEST_F(ServerAppTest, EachOfTwoServersServingOneSessionIdSeesTheOthersModelWrite
   };
   ASSERT_TRUE(CallOk(Create("t1", "tissue_block")));
   ASSERT_TRUE(CallOk(Create("t2", "tissue_block")));
-  ASSERT_TRUE(create_on_other("t1", "acupuncture").ok());
-  ASSERT_TRUE(create_on_other("t3", "tissue_block").ok());
+  ASSERT_TRUE(CreateOn(*other_sessions, "t1", "acupuncture").ok());
+  ASSERT_TRUE(CreateOn(*other_sessions, "t3", "tissue_block").ok());
   EXPECT_TRUE(wait_for([&] { return ours.load() == 1 && theirs.load() == 1; }))
       << "ours " << ours.load() << ", theirs " << theirs.load();
   EXPECT_NE(app_->dds().instance(), other.dds().instance());

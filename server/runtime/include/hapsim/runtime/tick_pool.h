@@ -105,7 +105,7 @@ class TickPool {
 
   const std::int64_t coalesce_ns_;
   const common::IdleWait wait_;
-  // Bumped by every notification: what a spinning worker polls (it holds no lock).
+  // Spinning workers only: bumped by every notification, polled without the lock.
   std::atomic<std::uint64_t> posted_{0};
   mutable std::mutex mutex_;
   std::condition_variable work_cv_;     // workers wait here
