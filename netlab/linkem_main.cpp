@@ -107,12 +107,16 @@ int main(int argc, char** argv) {
   double seconds = 600.0;
   int seed = 1;
   bool realtime = false;
+  double spin_lead_us = 0.0;
   hapsim::common::Flags flags("hapsim-linkem", kSummary);
   flags.AddList("host", &host_texts, "an emulated host: NETNS,ADDRESS[,KEY=VALUE...] (at least two)");
   flags.Add("tun", &tun_name, "the TUN device's name in every host's namespace");
   flags.Add("seconds", &seconds, "stop after this long [s] (a lab never outlives its test)");
   flags.Add("seed", &seed, "seed of the loss and jitter draws (each link its own stream)");
   flags.Add("realtime", &realtime, "run at SCHED_FIFO priority 10 (fewer late packets on a busy machine)");
+  flags.Add("spin-lead-us", &spin_lead_us,
+            "poll without sleeping for this long before each packet is due [us] (0: sleep until due; "
+            "an idle CPU may wake 0.1 ms or more late)");
   flags.Add("report", &report_file, "write a JSON summary here at exit");
   flags.Add("ready-file", &ready_file, "create this file once every device is open");
   std::string error;
@@ -129,7 +133,9 @@ int main(int argc, char** argv) {
     case hapsim::common::Flags::Result::kOk:
       break;
   }
-  error = hapsim::common::FirstFlagOutOfRange({{seconds > 0.0 && seconds <= 86400.0, "--seconds", "(0, 86400]"}});
+  error = hapsim::common::FirstFlagOutOfRange(
+      {{seconds > 0.0 && seconds <= 86400.0, "--seconds", "(0, 86400]"},
+       {spin_lead_us >= 0.0 && spin_lead_us <= 10000.0, "--spin-lead-us", "[0, 10000]"}});
   std::vector<HostSpec> hosts(host_texts.size());
   for (std::size_t i = 0; i < hosts.size() && error.empty(); ++i) error = ParseHost(host_texts[i], &hosts[i]);
   if (error.empty() && hosts.size() < 2) error = "at least two --host are needed";
@@ -157,7 +163,8 @@ int main(int argc, char** argv) {
   AskForPromptWakeups(realtime);
   hapsim::netlab::LinkSwitch link_switch(hosts, static_cast<std::uint64_t>(seed), hapsim::netlab::MonotonicNs());
   if (!ready_file.empty()) std::ofstream(ready_file) << getpid() << "\n";
-  const auto run = hapsim::netlab::RunForwarder(&link_switch, fds, seconds, g_stop);
+  const auto run =
+      hapsim::netlab::RunForwarder(&link_switch, fds, seconds, g_stop, static_cast<std::int64_t>(spin_lead_us * 1e3));
   for (int fd : fds) close(fd);
   const nlohmann::json report = Report(link_switch, run);
   if (!report_file.empty()) std::ofstream(report_file) << report.dump(2) << "\n";

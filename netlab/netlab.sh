@@ -10,6 +10,9 @@
 #       hapsim-linkem's --host keys (delay_ms=10,jitter_ms=5,loss=0.01,...).
 #       The lab lives --seconds (default 600) at most, and is removed by the
 #       next `up` or `sweep` once --owner (default: the caller) has exited.
+#       --realtime runs the emulator at SCHED_FIFO priority 10 and has it poll
+#       without sleeping for the last 300 us (HAPSIM_LINKEM_SPIN_LEAD_US)
+#       before each packet is due: an idle CPU can wake 0.1 ms or more late.
 #   netlab.sh exec LAB HOST COMMAND...   run a command on a host
 #   netlab.sh addr LAB HOST              print a host's address
 #   netlab.sh report LAB                 the emulator's JSON report (after down)
@@ -93,7 +96,9 @@ up() {
     case $1 in
       --seconds) seconds=$2; shift 2 ;;
       --owner) owner=$2; shift 2 ;;
-      --realtime) realtime=--realtime; shift ;;
+      # Punctual deliveries on a busy machine: SCHED_FIFO, and a spin over the
+      # last ${HAPSIM_LINKEM_SPIN_LEAD_US:-300} us before each packet is due.
+      --realtime) realtime="--realtime --spin-lead-us ${HAPSIM_LINKEM_SPIN_LEAD_US:-300}"; shift ;;
       --seed) seed=$2; shift 2 ;;
       -*) die "unknown option $1" ;;
       *) break ;;

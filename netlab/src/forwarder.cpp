@@ -24,7 +24,7 @@ std::int64_t MonotonicNs() {
 }
 
 ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tun_fds, double seconds,
-                             const std::atomic<bool>& stop) {
+                             const std::atomic<bool>& stop, std::int64_t spin_lead_ns) {
   ForwarderResult result;
   common::SampleWindow lateness_s(1 << 20);
   std::vector<pollfd> polls;
@@ -44,8 +44,10 @@ ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tu
   while (!stop.load(std::memory_order_relaxed)) {
     std::int64_t now_ns = MonotonicNs();
     if (now_ns >= end_ns) break;
+    // Within spin_lead_ns of the next delivery, poll without sleeping: an idle
+    // CPU can be woken 0.1 ms or more late, and that would be the link's error.
     const std::int64_t wait_ns =
-        std::clamp(std::min(link_switch->NextDueNs(), end_ns) - now_ns, std::int64_t{0}, kMaxWaitNs);
+        std::clamp(std::min(link_switch->NextDueNs(), end_ns) - now_ns - spin_lead_ns, std::int64_t{0}, kMaxWaitNs);
     const timespec timeout{static_cast<time_t>(wait_ns / 1'000'000'000), static_cast<long>(wait_ns % 1'000'000'000)};
     if (ppoll(polls.data(), polls.size(), &timeout, nullptr) < 0 && errno != EINTR) {
       result.ok = false;

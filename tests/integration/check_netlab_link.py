@@ -6,7 +6,7 @@ import json
 import re
 import sys
 
-from checks import check, finish, read_text
+from checks import check, finish, note_host_stall, read_text
 
 work, repo = sys.argv[1], sys.argv[2]
 sys.path.insert(0, f"{repo}/tests/bench")
@@ -41,7 +41,13 @@ print("emulator lateness us:", link["lateness_us"])
 check(hosts["cut"]["dropped_outage"] > 0, f"the cut host's outage dropped packets ({hosts['cut']['dropped_outage']})")
 check(hosts["viewer"]["dropped_lost"] > 0, f"the viewer's link lost packets ({hosts['viewer']['dropped_lost']})")
 check(hosts["trainee"]["dropped_lost"] + hosts["trainee"]["dropped_outage"] == 0, "the trainee's link lost nothing")
-check(link["lateness_us"]["p99"] < 1000.0, f"the emulator delivers on time: p99 {link['lateness_us']['p99']:.0f} us late")
+late_p99_us = link["lateness_us"]["p99"]
+check(late_p99_us < 1000.0, f"the emulator delivers on time: p99 {late_p99_us:.0f} us late")
+if late_p99_us >= 1000.0:
+    # It runs at SCHED_FIFO and polls through the last 300 us before each
+    # delivery: only a host that withholds the CPU makes it this late, and then
+    # the links were not what the other checks assume.
+    note_host_stall(f"the link emulator delivered p99 {late_p99_us:.0f} us late")
 
 # The trainee 10 ms away: 20 ms round trip, transparent within 5 % of the peak.
 out = read_text(work, "bridge.out")

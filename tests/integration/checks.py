@@ -7,6 +7,7 @@ import sys
 
 _failures = []
 _work_dirs = []  # every directory read_text read from: where the run's outputs are
+_noted_stalls = []  # host stalls a check script saw in its own instruments (note_host_stall)
 
 # Exit code of a run that failed while the host itself was stalled: the test
 # runner (retry_on_host_stall.sh) runs such a test once more.
@@ -41,9 +42,15 @@ def _servo_stalls(limit_ms=10.0):
     return stalls
 
 
+def note_host_stall(evidence):
+    """Another sign that the host withheld the CPU during the run, seen by the
+    check script itself (say, a real-time test instrument that ran late)."""
+    _noted_stalls.append(evidence)
+
+
 def finish():
     print(f"{len(_failures)} failed")
-    stalls = _servo_stalls() if _failures else []
+    stalls = (_servo_stalls() + _noted_stalls) if _failures else []
     if stalls:
         # Timing checks measured the host's stall, not the code: say so and
         # let the runner try once more (a second failure fails the test).

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs an end-to-end test script (SCRIPT BIN_DIR WORK_DIR) and, only when it
 # exits 75 — a check failed while the host itself was stalled (a bridge's
-# or hapsim-load's servo that waited over ten periods for the CPU:
+# or hapsim-load's servo that waited over ten periods for the CPU, or an
+# instrument the check script found late: note_host_stall;
 # checks.py's finish(), lib.sh's finish_checks) — runs it once more. A second failure of any kind
 # fails the test; the first run's output stays in the log.
 set -uo pipefail

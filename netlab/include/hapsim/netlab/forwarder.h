@@ -1,6 +1,7 @@
 // The link emulator's process loop: packets read from each host's TUN
 // device go through the LinkSwitch and are written to the destination's TUN
-// device when due. One thread, ppoll with nanosecond timeouts.
+// device when due. One thread, ppoll with nanosecond timeouts (or, just
+// before a packet is due, a ppoll that does not wait).
 #pragma once
 #include <atomic>
 #include <string>
@@ -24,8 +25,11 @@ struct ForwarderResult {
 };
 
 // tun_fds[i] is host i's device. Runs until *stop, or for `seconds`.
+// spin_lead_ns > 0: sleep only until that long before the next packet is
+// due, then poll the devices without sleeping until it is (punctual
+// deliveries for the CPU time of the spin).
 ForwarderResult RunForwarder(LinkSwitch* link_switch, const std::vector<int>& tun_fds, double seconds,
-                             const std::atomic<bool>& stop);
+                             const std::atomic<bool>& stop, std::int64_t spin_lead_ns = 0);
 
 // This process's monotonic clock [ns] (the LinkSwitch's clock here).
 std::int64_t MonotonicNs();
