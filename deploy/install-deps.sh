@@ -4,6 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
+  ccache  # a clean clone compiles only what changed since the last build (cmake/HapsimCompilerCache.cmake)
   libeigen3-dev libasio-dev libspdlog-dev
   libprotobuf-dev protobuf-compiler libgrpc++-dev protobuf-compiler-grpc
   cyclonedds-dev cyclonedds-tools
