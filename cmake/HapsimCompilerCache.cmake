@@ -6,8 +6,14 @@
 #   or a build directory of another name, finds the same results.
 # - extra_files_to_hash: ccache does not read the sanitizer ignore list a
 #   flag names, so a change to it must reach every key by hand.
+# - __FILE__ relative to the source tree (-fmacro-prefix-map, always): the
+#   unity batches include their files by absolute path, so ccache finds them
+#   by their preprocessed text, and every gtest assertion's __FILE__ would
+#   otherwise make that text differ from clone to clone. (It also makes the
+#   binaries the same wherever the tree is.)
 # ccache checks the compiler, every flag and every included header's
 # contents; what it returns is what the compiler would have produced.
+add_compile_options(-fmacro-prefix-map=${PROJECT_SOURCE_DIR}/=)
 option(HAPSIM_CCACHE "Compile through ccache when it is installed" ON)
 if(HAPSIM_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   find_program(HAPSIM_CCACHE_PROGRAM ccache)
