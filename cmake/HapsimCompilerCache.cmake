@@ -4,8 +4,9 @@
 # ~20 of its ~40 minutes.
 # - base_dir (the source tree) and no hash_dir: a clone at another path,
 #   or a build directory of another name, finds the same results.
-# - extra_files_to_hash: ccache does not read the sanitizer ignore list a
-#   flag names, so a change to it must reach every key by hand.
+# - ignore_options: the sanitizer ignore list's flag names a path in the
+#   clone, which ccache would hash as it is; a define with the list's MD5
+#   stands for it in the key (cmake/HapsimSanitizers.cmake).
 # - __FILE__ relative to the source tree (-fmacro-prefix-map, always): the
 #   unity batches include their files by absolute path, so ccache finds them
 #   by their preprocessed text, and every gtest assertion's __FILE__ would
@@ -20,7 +21,7 @@ if(HAPSIM_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   if(HAPSIM_CCACHE_PROGRAM)
     set(_hapsim_launcher
         ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${PROJECT_SOURCE_DIR} CCACHE_NOHASHDIR=true
-        CCACHE_EXTRAFILES=${PROJECT_SOURCE_DIR}/cmake/ubsan-third-party-headers.txt ${HAPSIM_CCACHE_PROGRAM})
+        CCACHE_IGNOREOPTIONS=-fsanitize-ignorelist=* ${HAPSIM_CCACHE_PROGRAM})
     set(CMAKE_C_COMPILER_LAUNCHER ${_hapsim_launcher})
     set(CMAKE_CXX_COMPILER_LAUNCHER ${_hapsim_launcher})
     message(STATUS "hapsim: compiling through ${HAPSIM_CCACHE_PROGRAM}")

@@ -19,7 +19,14 @@ if(HAPSIM_SANITIZE)
   add_compile_options(-fsanitize=${_san} -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
   add_link_options(-fsanitize=${_san})
   if("undefined" IN_LIST HAPSIM_SANITIZE AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-    add_compile_options(-fsanitize-ignorelist=${PROJECT_SOURCE_DIR}/cmake/ubsan-third-party-headers.txt)
+    set(_ignorelist ${PROJECT_SOURCE_DIR}/cmake/ubsan-third-party-headers.txt)
+    add_compile_options(-fsanitize-ignorelist=${_ignorelist})
+    # The compiler cache leaves that flag out of its keys (it names a path in
+    # this clone: cmake/HapsimCompilerCache.cmake) and keys on this instead,
+    # which says the list is in use and what it holds.
+    file(MD5 ${_ignorelist} _ignorelist_md5)
+    add_compile_definitions(HAPSIM_UBSAN_IGNORELIST_MD5=${_ignorelist_md5})
+    set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_ignorelist})
   endif()
   message(STATUS "hapsim: sanitizers ${_san}")
 endif()
