@@ -1,7 +1,7 @@
 # Compiles through ccache when it is installed. CI builds a clean clone every
 # time, twice (the release tree and the sanitized/fuzz tree), and most of
 # what it compiles is what the last run compiled: on a 2-core host that is
-# ~20 of its ~40 minutes.
+# ~25 of its ~40 minutes.
 # - base_dir (the source tree) and no hash_dir: a clone at another path,
 #   or a build directory of another name, finds the same results.
 # - ignore_options: the sanitizer ignore list's flag names a path in the
