@@ -96,8 +96,6 @@ up() {
     case $1 in
       --seconds) seconds=$2; shift 2 ;;
       --owner) owner=$2; shift 2 ;;
-      # Punctual deliveries on a busy machine: SCHED_FIFO, and a spin over the
-      # last ${HAPSIM_LINKEM_SPIN_LEAD_US:-300} us before each packet is due.
       --realtime) realtime="--realtime --spin-lead-us ${HAPSIM_LINKEM_SPIN_LEAD_US:-300}"; shift ;;
       --seed) seed=$2; shift 2 ;;
       -*) die "unknown option $1" ;;
